@@ -1,0 +1,8 @@
+"""ocp: an optimal-control benchmark suite around the torque-limited pendulum
+theta'' + sin(theta) = kappa*u, |u| <= 1 (see `ocp.model` for the convention)."""
+
+from .problems import Problem, swing_up, damping
+from .transcription import MultipleShooting
+from .direct import solve, Guess
+
+__all__ = ["Problem", "swing_up", "damping", "MultipleShooting", "solve", "Guess"]

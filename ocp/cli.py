@@ -5,8 +5,10 @@ exits 1 (with `--json`, still one object with "success": false).
 """
 
 import argparse
+import contextlib
 import json
 import math
+import os
 import sys
 
 from .errors import InputError
@@ -19,14 +21,94 @@ class _Parser(argparse.ArgumentParser):
         raise InputError(f"{self.prog}: {message}")
 
 
+@contextlib.contextmanager
+def _stdout_to_stderr():
+    """Send what compiled solvers print (banners, iteration logs) to stderr, so stdout holds only
+    the answer (one JSON object with --json)."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    os.dup2(2, 1)
+    try:
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved, 1)
+        os.close(saved)
+
+
 def _print_json(obj):
-    print(json.dumps(obj, indent=2, allow_nan=False, default=_json_default))
+    """One JSON document on stdout; numpy values as lists, non-finite numbers as null."""
+    print(json.dumps(_plain(obj), indent=2, allow_nan=False))
 
 
-def _json_default(obj):
+def _plain(obj):
+    if isinstance(obj, dict):
+        return {k: _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
     if hasattr(obj, "tolist"):
-        return obj.tolist()
-    raise TypeError(f"{type(obj).__name__} is not JSON serialisable")
+        return _plain(obj.tolist())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def _option(text):
+    """KEY=VALUE for the NLP solver; VALUE read as JSON where it parses (numbers, true, lists)."""
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError(f"{text!r} is not KEY=VALUE (e.g. ipopt.tol=1e-10)")
+    try:
+        return key, json.loads(value)
+    except json.JSONDecodeError:
+        return key, value
+
+
+def _add_solve(sub):
+    from .problems import KINDS
+    from .transcription import INTEGRATORS
+
+    p = sub.add_parser("solve", help="minimum-time swing-up or damping by multiple shooting")
+    p.add_argument("problem", help=f"one of: {', '.join(KINDS)}")
+    p.add_argument("--kappa", required=True, help="torque bound tau0/(m g l), > 0")
+    p.add_argument("--x0", nargs=2, metavar=("THETA", "OMEGA"), help="initial state (rad, rad per unit time)")
+    p.add_argument("--branch", help="pin the target branch k (swing-up: pi + 2*pi*k, damping: 2*pi*k); default: any")
+    p.add_argument("--N", default="100", help="shooting intervals (>= 2), default 100")
+    p.add_argument("--integrator", default="rk4", help=f"one of: {', '.join(INTEGRATORS)}; default rk4")
+    p.add_argument("--M", default="4", help="rk4 steps or collocation elements per interval, default 4")
+    p.add_argument("--tol", default="1e-10", help="cvodes tolerance, default 1e-10")
+    p.add_argument("--solver", default="ipopt", help="a casadi.nlpsol plugin (ipopt, fatrop, sqpmethod, ...)")
+    p.add_argument("--option", action="append", type=_option, default=[], metavar="KEY=VALUE",
+                   help="an NLP solver option, passed untouched (repeatable), e.g. ipopt.tol=1e-10")
+    p.add_argument("--miss-tol", default="1e-6", help="largest re-simulated miss accepted as success")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(run=_run_solve)
+
+
+def _integer(name, text, accepted):
+    try:
+        return int(text)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} = {text!r} is not an integer; {name} accepts {accepted}") from None
+
+
+def _run_solve(args):
+    from . import direct, problems
+    from .errors import finite
+    from .transcription import MultipleShooting
+
+    problem = problems.make(args.problem, args.kappa, args.x0,
+                            None if args.branch is None else _integer("branch", args.branch, "an integer k"))
+    method = MultipleShooting(_integer("N", args.N, "an integer >= 2"), args.integrator,
+                              _integer("M", args.M, "an integer >= 1"), finite("tol", args.tol, "a number in (0, 1)"))
+    miss_tol = finite("miss-tol", args.miss_tol, "a number > 0")
+    with _stdout_to_stderr():
+        result = direct.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol)
+    if args.json:
+        _print_json(result.to_dict())
+    else:
+        print(result.summary())
+    return 0 if result.success else 1
 
 
 def _add_verify(sub):
@@ -52,6 +134,7 @@ def _run_verify(args):
 def main(argv=None):
     parser = _Parser(prog="ocp", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    _add_solve(sub)
     _add_verify(sub)
     try:
         args = parser.parse_args(argv)

@@ -14,3 +14,9 @@ def finite(name, value, accepted="a finite number"):
     if number != number or number in (float("inf"), float("-inf")):
         raise InputError(f"{name} = {value!r} is not finite; {name} accepts {accepted}")
     return number
+
+
+def last_line(err):
+    """The last non-empty line of an exception's message (CasADi puts the cause there)."""
+    lines = [line.strip() for line in str(err).splitlines() if line.strip()]
+    return lines[-1] if lines else type(err).__name__

@@ -1,0 +1,139 @@
+"""`solve(problem, ...)`: the direct multiple-shooting solution of a minimum-time problem.
+
+The initial guess is either given (a `Guess`, or a previous `Solution` to warm-start from) or the
+default family `default_guesses(problem)`: each is solved and the best verified solution returned,
+all starts recorded. A solution is verified by re-simulating its control independently
+(`ocp.simulate`) and measuring how far it lands from the target.
+"""
+
+import math
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from . import simulate, structure
+from .errors import InputError, last_line
+from .problems import Problem
+from .result import Solution
+from .transcription import MultipleShooting, T_BOUNDS, build
+
+MISS_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class Guess:
+    """An initial guess on normalised time s in [0, 1]: T, and theta, omega at the nodes `s`, u on
+    the intervals (len(s) - 1 values). It is resampled to the transcription's grid (linear
+    interpolation of the states, the control taken at interval midpoints)."""
+
+    T: float
+    s: tuple
+    theta: tuple
+    omega: tuple
+    u: tuple
+    label: str = "user"
+
+    @classmethod
+    def from_solution(cls, sol, label="warm start"):
+        return cls(sol.T, tuple(sol.t / sol.T), tuple(sol.x[:, 0]), tuple(sol.x[:, 1]), tuple(sol.u), label)
+
+    def on_grid(self, N):
+        s = np.linspace(0.0, 1.0, N + 1)
+        src = np.asarray(self.s, float)
+        mid = 0.5 * (src[:-1] + src[1:])
+        return (np.interp(s, src, self.theta), np.interp(s, src, self.omega),
+                np.interp(0.5 * (s[:-1] + s[1:]), mid, self.u))
+
+
+def default_guesses(problem, N=100):
+    """Three guesses with T = (2 + |dtheta|)/sqrt(kappa), dtheta = target - theta0 (branch of
+    `problem.guess_branch`), u = 0 and theta(s) = theta0 + dtheta*s + b*sin(pi*s) for a detour
+    b = 0, -1, +1 rad: straight at the target, or first swinging the other way (a backswing)."""
+    theta0, omega0 = problem.x0
+    theta_t = problem.target(problem.guess_branch)[0]
+    T = (2 + abs(theta_t - theta0)) / math.sqrt(problem.kappa)
+    T = min(max(T, 2 * T_BOUNDS[0]), 0.5 * T_BOUNDS[1])
+    s = np.linspace(0.0, 1.0, N + 1)
+    direction = math.copysign(1.0, theta_t - theta0) if theta_t != theta0 else 1.0
+    guesses = []
+    for b, name in ((0.0, "straight"), (-1.0, "backswing"), (1.0, "overswing")):
+        theta = theta0 + (theta_t - theta0) * s + direction * b * np.sin(math.pi * s)
+        omega = np.gradient(theta, s) / T
+        omega[0] = omega0
+        guesses.append(Guess(T, tuple(s), tuple(theta), tuple(omega), (0.0,) * N, name))
+    return guesses
+
+
+def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=MISS_TOL):
+    """Minimum-time solution of `problem` by direct multiple shooting (`method`, default
+    MultipleShooting()), NLP solved by casadi.nlpsol(`solver`, `options`) (options untouched).
+
+    `guess`: None (the default family, best verified of them returned), a Guess, or a Solution.
+    Returns a `Solution`; `success` requires the independent re-simulation to land within
+    `miss_tol` of the target."""
+    if not isinstance(problem, Problem):
+        raise InputError(f"problem must be an ocp Problem (ocp.swing_up / ocp.damping), not {type(problem).__name__}")
+    method = MultipleShooting() if method is None else method
+    if not (isinstance(miss_tol, (int, float)) and miss_tol > 0):
+        raise InputError(f"miss_tol = {miss_tol!r} must be a number > 0")
+    start = time.perf_counter()
+    transcription = build(method, solver, options, free_branch=problem.branch is None)
+    if guess is None:
+        guesses = default_guesses(problem, method.N)
+    elif isinstance(guess, Solution):
+        guesses = [Guess.from_solution(guess)]
+    elif isinstance(guess, Guess):
+        guesses = [guess]
+    else:
+        raise InputError(f"guess must be None, an ocp Guess or an ocp Solution, not {type(guess).__name__}")
+    runs = [_run(transcription, problem, g, miss_tol) for g in guesses]
+    best = min(runs, key=lambda r: (not r.success, not r.solver_success, r.T if math.isfinite(r.T) else math.inf))
+    best.starts = [{"guess": r.guess, "success": r.success, "status": r.status, "T": r.T,
+                    "n_switches": r.n_switches, "iterations": r.iterations, "solve_time_s": r.solve_time_s}
+                   for r in runs]
+    best.build_time_s = transcription.build_time_s
+    best.solve_time_s = sum(r.solve_time_s for r in runs)
+    best.total_time_s = time.perf_counter() - start
+    return best
+
+
+def _run(tr, problem, guess, miss_tol):
+    N = tr.N
+    theta, omega, u = guess.on_grid(N)
+    w0 = tr.pack(theta, omega, guess.T, u)
+    theta_end = None if problem.branch is None else problem.target(problem.branch)[0]
+    lbx, ubx = tr.bounds(problem.x0, theta_end)
+    w0 = np.clip(w0, lbx, ubx)
+    start = time.perf_counter()
+    try:
+        w = np.array(tr.solver(x0=w0, lbx=lbx, ubx=ubx, lbg=tr.lbg, ubg=tr.ubg,
+                               p=[problem.kappa, problem.target_base])["x"]).ravel()
+        stats = tr.solver.stats()
+        status = _status(stats)
+    except RuntimeError as err:      # a solver that cannot run (e.g. a missing linear solver) fails this start
+        w, stats, status = w0, {}, f"solver error: {last_line(err)}"
+    solve_time = time.perf_counter() - start
+    i_th, i_om, i_T, i_u = tr.index()
+    T = float(w[i_T[0]])
+    t = np.linspace(0.0, T, N + 1)
+    x = np.column_stack([w[i_th], w[i_om]])
+    u = np.clip(w[i_u], -1.0, 1.0)
+    branch = problem.nearest_branch(x[-1, 0]) if problem.branch is None else problem.branch
+    final = simulate.piecewise(problem.x0, t, u, problem.kappa)[-1]
+    miss = float(np.hypot(*(final - np.array(problem.target(branch)))))
+    solver_ok = bool(stats.get("success", False))
+    ok = solver_ok and miss <= miss_tol
+    if solver_ok and not ok:
+        status = f"{status}, but the re-simulated control misses the target by {miss:.1e} > {miss_tol:.0e}"
+    method = dict(tr.settings.to_dict(), solver=tr.solver_name, options=tr.options)
+    return Solution(problem, method, T, t, x, u, branch, ok, status, solver_ok,
+                    int(stats.get("iter_count", -1)), structure.read(t, x, u, problem.kappa), miss, miss_tol,
+                    tr.build_time_s, solve_time, solve_time, guess.label)
+
+
+def _status(stats):
+    """The solver's own return status, or CasADi's unified one where the solver gives a number."""
+    status = stats.get("return_status")
+    return status if isinstance(status, str) else str(stats.get("unified_return_status", status))

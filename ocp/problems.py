@@ -74,12 +74,12 @@ class Problem:
 
 def swing_up(kappa, x0=None, branch=None):
     """Minimum-time swing-up from x0 (default (0, 0), hanging at rest) to the upright (pi + 2*pi*k, 0)."""
-    return Problem("swing-up", kappa, KINDS["swing-up"][1] if x0 is None else tuple(x0), branch)
+    return Problem("swing-up", kappa, KINDS["swing-up"][1] if x0 is None else x0, branch)
 
 
 def damping(kappa, x0=None, branch=None):
     """Minimum-time damping from x0 (default (pi, 0), upright at rest) to the hanging (2*pi*k, 0)."""
-    return Problem("damping", kappa, KINDS["damping"][1] if x0 is None else tuple(x0), branch)
+    return Problem("damping", kappa, KINDS["damping"][1] if x0 is None else x0, branch)
 
 
 def make(kind, kappa, x0=None, branch=None):

@@ -1,0 +1,66 @@
+"""Problems as plain data: validation, branches, and the model in both numpy and CasADi."""
+
+import math
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from ocp import model, swing_up, damping, MultipleShooting
+from ocp.errors import InputError
+from ocp.problems import Problem, make
+
+
+@pytest.mark.parametrize("kappa", [0, -1, float("nan"), float("inf"), "abc", None])
+def test_bad_kappa_is_rejected_with_what_is_accepted(kappa):
+    with pytest.raises(InputError, match="kappa"):
+        swing_up(kappa)
+
+
+@pytest.mark.parametrize("x0", [(1.0,), (1.0, 2.0, 3.0), ("a", 0.0), (float("nan"), 0.0), 5.0])
+def test_bad_x0_is_rejected(x0):
+    with pytest.raises(InputError):
+        damping(1.0, x0=x0)
+
+
+def test_unknown_problem_and_bad_branch():
+    with pytest.raises(InputError, match="swing-up, damping"):
+        make("pendulum", 1.0)
+    with pytest.raises(InputError, match="branch"):
+        swing_up(1.0, branch=0.5)
+
+
+@pytest.mark.parametrize("kwargs, match", [({"N": 1}, "N"), ({"N": 2.5}, "N"), ({"integrator": "euler"}, "rk4, cvodes"),
+                                           ({"M": 0}, "M"), ({"tol": 0.0}, "tol")])
+def test_bad_method_settings(kwargs, match):
+    with pytest.raises(InputError, match=match):
+        MultipleShooting(**kwargs)
+
+
+def test_targets_are_branches_of_the_circle():
+    p = swing_up(1.0)
+    assert p.target(0) == (math.pi, 0.0) and p.target(-1) == (-math.pi, 0.0)
+    assert damping(1.0).target(1) == (2 * math.pi, 0.0)
+    # ties between two branches go to the smaller |k|
+    assert p.nearest_branch(0.0) == 0
+    assert damping(1.0).nearest_branch(math.pi) == 0
+    assert p.nearest_branch(-3.0) == -1 and damping(1.0).nearest_branch(7.0) == 1
+    assert swing_up(1.0, branch=-2).guess_branch == -2
+
+
+def test_problem_is_plain_serialisable_data():
+    p = swing_up(0.5, x0=(0.1, -0.2), branch=1)
+    assert Problem(**p.to_dict()) == p
+
+
+def test_model_numpy_and_casadi_agree():
+    x, u, kappa = np.array([0.7, -1.3]), 0.4, 0.8
+    xs, us = ca.SX.sym("x", 2), ca.SX.sym("u")
+    f = ca.Function("f", [xs, us], [model.rhs(xs, us, kappa)])
+    assert np.allclose(np.array(f(x, u)).ravel(), model.rhs(x, u, kappa), rtol=0, atol=1e-15)
+    assert model.rhs(x, u, kappa)[1] == pytest.approx(kappa * u - math.sin(0.7), abs=1e-15)
+    # the arc invariant is conserved along the flow: d/dt = omega*(omega' + sin(theta) - kappa*u) = 0
+    xdot = model.rhs(x, u, kappa)
+    grad = np.array([math.sin(x[0]) - kappa * u, x[1]])
+    assert grad @ xdot == pytest.approx(0.0, abs=1e-15)
+    assert model.energy(np.array([0.0, 0.0])) == -1 and model.energy(np.array([math.pi, 0.0])) == 1

@@ -1,0 +1,188 @@
+"""Refinement: the switching-time problem of a bang-bang structure, to integrator precision.
+
+For arcs u = s_1, ..., s_n (fixed signs) of durations d_1, ..., d_n (the unknowns):
+
+    minimise T = sum(d)   subject to   x(T; d) = target.
+
+Its first-order conditions are Pontryagin's (maximum principle, H = p1*omega + p2*(kappa*u -
+sin(theta)) - 1, p' = -dH/dx, u = sign(p2), H = 0 for free final time): with p(0) as 2 more
+unknowns, the square system
+
+    x(T) - target = 0                       (2 equations)
+    p2(t_j) = 0 at each switch t_j          (n - 1)
+    H(0) = 0                                (1)
+
+in (d, p(0)) (n + 2 unknowns) is solved by Newton's method, the state and costate integrated by
+CVODES at rtol = atol = TOL and differentiated by its forward sensitivities. Newton starts from the
+switching-time problem itself solved by IPOPT (d >= 0; RK4 with STEPS fixed steps per arc: a
+globalised, moderately accurate first stage) and from p(0) solving the conditions (linear in p(0))
+in least squares along those durations. The Lagrange multiplier of the end constraint is -p(T).
+
+The accuracy of T and of the switch times is estimated by solving again at TOL_CHECK and taking
+the difference.
+"""
+
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+
+import casadi as ca
+import numpy as np
+
+TOL = 1e-14
+TOL_CHECK = 1e-12
+STEPS = 200
+RESIDUAL_TOL = 1e-10  # the conditions hold to integrator noise (Newton stops at 1e-13 where it can)
+
+
+@dataclass(frozen=True)
+class Refined:
+    """A bang-bang extremal: arc signs and durations, T, switch times and states, p(0), the
+    Newton residual, and error estimates of T and of the switch times (from two tolerances)."""
+
+    signs: tuple
+    durations: tuple
+    T: float
+    switch_times: tuple
+    switch_states: tuple
+    final_state: tuple
+    p0: tuple
+    residual: float
+    converged: bool
+    iterations: int
+    T_error: float
+    switch_time_error: float
+    time_s: float
+
+    @property
+    def n_switches(self):
+        return len(self.signs) - 1
+
+    @property
+    def first_u(self):
+        return self.signs[0]
+
+    def to_dict(self):
+        return {
+            "signs": list(self.signs), "durations": list(self.durations), "T": self.T,
+            "switch_times": list(self.switch_times), "switch_states": [list(s) for s in self.switch_states],
+            "final_state": list(self.final_state), "p0": list(self.p0), "residual": self.residual,
+            "converged": self.converged, "iterations": self.iterations, "T_error": self.T_error,
+            "switch_time_error": self.switch_time_error, "time_s": self.time_s,
+        }
+
+
+@lru_cache(maxsize=4)
+def state_costate_flow(tol):
+    """Phi(y, u, d, kappa): y = (theta, omega, p1, p2) after time d under constant u (CVODES, tol)."""
+    y, u, d, kappa = ca.SX.sym("y", 4), ca.SX.sym("u"), ca.SX.sym("d"), ca.SX.sym("kappa")
+    theta, omega, p1, p2 = y[0], y[1], y[2], y[3]
+    ode = d * ca.vertcat(omega, kappa * u - ca.sin(theta), p2 * ca.cos(theta), -p1)
+    integ = ca.integrator("Phi", "cvodes", {"x": y, "p": ca.vertcat(u, d, kappa), "ode": ode}, 0, 1,
+                          {"abstol": tol, "reltol": tol, "max_num_steps": 100000})
+    ys, us, ds, ks = ca.MX.sym("y", 4), ca.MX.sym("u"), ca.MX.sym("d"), ca.MX.sym("kappa")
+    return ca.Function("Phi", [ys, us, ds, ks], [integ(x0=ys, p=ca.vertcat(us, ds, ks))["xf"]])
+
+
+@lru_cache(maxsize=32)
+def _newton(n, tol):
+    """Newton solver of the n-arc conditions: (v0, params) -> v, v = (d_1..d_n, p1(0), p2(0)),
+    params = (theta0, omega0, kappa, s_1..s_n, theta_T, omega_T)."""
+    phi = state_costate_flow(tol)
+    v = ca.MX.sym("v", n + 2)
+    par = ca.MX.sym("par", 5 + n)
+    x0, kappa, s, target = par[0:2], par[2], par[3:3 + n], par[3 + n:5 + n]
+    y = ca.vertcat(x0, v[n:])
+    h0 = v[n] * x0[1] + v[n + 1] * (kappa * s[0] - ca.sin(x0[0])) - 1
+    at_switch = []
+    for i in range(n):
+        y = phi(y, s[i], v[i], kappa)
+        if i < n - 1:
+            at_switch.append(y[3])
+    residual = ca.Function("R", [v, par], [ca.vertcat(y[0:2] - target, *at_switch, h0)])
+    solver = ca.rootfinder("newton", "newton", residual,
+                           {"abstol": 1e-13, "abstolStep": 1e-15, "max_iter": 15, "error_on_fail": False})
+    return solver, residual
+
+
+@lru_cache(maxsize=32)
+def _switching_time_nlp(n):
+    """IPOPT on min sum(d) s.t. x(T; d) = target, d >= 0; params (theta0, omega0, kappa, s, target)."""
+    d = ca.SX.sym("d", n)
+    par = ca.SX.sym("par", 5 + n)
+    x, kappa, s, target = par[0:2], par[2], par[3:3 + n], par[3 + n:5 + n]
+    f = lambda x, u: ca.vertcat(x[1], kappa * u - ca.sin(x[0]))
+    for i in range(n):
+        h = d[i] / STEPS
+        for _ in range(STEPS):
+            k1 = f(x, s[i])
+            k2 = f(x + h / 2 * k1, s[i])
+            k3 = f(x + h / 2 * k2, s[i])
+            k4 = f(x + h * k3, s[i])
+            x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    nlp = {"x": d, "p": par, "f": ca.sum1(d), "g": x - target}
+    return ca.nlpsol("switching_times", "ipopt", nlp, {"print_time": False, "ipopt.print_level": 0,
+                                                       "ipopt.sb": "yes", "ipopt.tol": 1e-10})
+
+
+def switching_times(x0, kappa, target, signs, durations):
+    """(durations, success): the switching-time problem by IPOPT from `durations` (first stage)."""
+    n = len(signs)
+    solver = _switching_time_nlp(n)
+    par = np.concatenate([x0, [kappa], signs, target])
+    d = solver(x0=np.maximum(durations, 1e-3), p=par, lbx=0.0, ubx=np.inf, lbg=0.0, ubg=0.0)["x"]
+    return np.array(d).ravel(), bool(solver.stats()["success"])
+
+
+def _trajectory(x0, p0, signs, durations, kappa, tol):
+    """State-costate at the start and at the end of every arc: array (n + 1, 4)."""
+    phi = state_costate_flow(tol)
+    y = [np.concatenate([x0, p0])]
+    for s, d in zip(signs, durations):
+        y.append(np.array(phi(y[-1], s, d, kappa)).ravel())
+    return np.array(y)
+
+
+def costate_guess(x0, signs, durations, kappa):
+    """p(0) minimising the residual of the conditions p2(t_j) = 0, H(0) = 0 (linear in p(0)) along
+    fixed durations."""
+    rows = []
+    for p0 in (np.zeros(2), np.eye(2)[0], np.eye(2)[1]):
+        y = _trajectory(np.asarray(x0, float), p0, signs, durations, kappa, 1e-10)
+        rows.append(y[1:-1, 3])
+    base, e1, e2 = rows
+    f0 = np.array([x0[1], kappa * signs[0] - np.sin(x0[0])])
+    A = np.vstack([np.column_stack([e1 - base, e2 - base]), f0])
+    b = np.concatenate([-base, [1.0]])
+    return np.linalg.lstsq(A, b, rcond=None)[0]
+
+
+def refine(x0, kappa, target, signs, durations):
+    """The extremal with arc signs `signs` nearest to the initial `durations` (see module doc)."""
+    start = time.perf_counter()
+    signs = tuple(int(s) for s in signs)
+    n = len(signs)
+    x0 = np.asarray(x0, float)
+    par = np.concatenate([x0, [kappa], signs, target])
+    durations, _ = switching_times(x0, kappa, target, signs, np.asarray(durations, float))
+    p0 = costate_guess(x0, signs, durations, kappa)
+    v0 = np.concatenate([durations, p0])
+    results = {}
+    for tol in (TOL, TOL_CHECK):
+        solver, residual = _newton(n, tol)
+        v = np.array(solver(v0, par)).ravel()
+        results[tol] = (v, float(np.max(np.abs(np.array(residual(v, par))))), solver.stats())
+    v, res, stats = results[TOL]
+    v_check = results[TOL_CHECK][0]
+    d = v[:n]
+    y = _trajectory(x0, v[n:], signs, d, kappa, TOL)
+    switch_times = tuple(np.cumsum(d)[:-1])
+    converged = res < RESIDUAL_TOL and bool(np.all(d >= 0))
+    return Refined(
+        signs=signs, durations=tuple(d), T=float(np.sum(d)), switch_times=switch_times,
+        switch_states=tuple(tuple(row[:2]) for row in y[1:-1]), final_state=tuple(y[-1, :2]),
+        p0=tuple(v[n:]), residual=res, converged=converged, iterations=int(stats.get("iter_count", -1)),
+        T_error=float(abs(np.sum(d) - np.sum(v_check[:n]))),
+        switch_time_error=float(np.max(np.abs(np.cumsum(d)[:-1] - np.cumsum(v_check[:n])[:-1]), initial=0.0)),
+        time_s=time.perf_counter() - start,
+    )

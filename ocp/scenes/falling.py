@@ -175,8 +175,8 @@ def fall_time_casadi(x0, plugin="cvodes", step=0.5, t_max=100.0, **opts):
         dh = (xh[0] - GROUND) / xh[1]
         h -= dh
         if abs(dh) <= 1e-15 * (t + h):
-            break
-    return t + h
+            return t + h
+    raise RuntimeError(f"{plugin}: Newton on theta(h) = pi/2 did not converge from x0 = {x0}")
 
 
 TABLE1 = (192, 48, 24, 6, 3)  #: Table 1: theta0 = pi/n

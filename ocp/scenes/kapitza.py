@@ -59,6 +59,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from ..errors import InputError
 from ..verify import Reproduction
 
 L, A, G = 0.20, 0.0013, 9.8  #: the papers' device: rod length (m), pivot amplitude (m), g (m/s^2)
@@ -112,7 +113,7 @@ def boundaries(q):
     if q == 0:
         return 0.0, 1.0
     if not 0 < q <= 2:
-        raise ValueError(f"q = {q} is outside (0, 2], where the bracket holds one characteristic value")
+        raise InputError(f"q = {q} is outside [0, 2], where each bracket holds one characteristic value")
     root = dict(xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=200)
     a0 = brentq(lambda a: half_period(a, q)[1, 0], -2 * q, 0.0, **root)
     b1 = brentq(lambda a: half_period(a, q)[1, 1], -2 * q, 1.0, **root)

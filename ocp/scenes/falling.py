@@ -159,7 +159,9 @@ def fall_time_casadi(x0, plugin="cvodes", step=0.5, t_max=100.0, **opts):
     """Time to the ground by a CasADi integrator (`casadi_flow`), which has no event detection:
     march in steps of `step` until theta <= pi/2, then solve theta(h) = pi/2 for the time h from
     the last state before the crossing by Newton's method, whose derivative d theta/dh = omega(h)
-    is the integrator's own output, from the secant guess. Each Newton step re-integrates [0, h]."""
+    is the integrator's own output, from the secant guess, until the step is below 1e-15 relative
+    or stops shrinking (the integrator's own noise, e.g. collocation's inner rootfinder). Each Newton
+    step re-integrates [0, h]."""
     F = casadi_flow(plugin, **opts)
     t, x = 0.0, np.asarray(x0, float)
     while True:
@@ -169,13 +171,14 @@ def fall_time_casadi(x0, plugin="cvodes", step=0.5, t_max=100.0, **opts):
         t, x = t + step, xn
         if t > t_max:
             raise RuntimeError(f"{plugin}: no ground crossing before t = {t_max} from x0 = {x0}")
-    h = step * (x[0] - GROUND) / (x[0] - xn[0])
+    h, last = step * (x[0] - GROUND) / (x[0] - xn[0]), math.inf
     for _ in range(50):
         xh = np.asarray(F(x0=x, p=h)["xf"]).ravel()
         dh = (xh[0] - GROUND) / xh[1]
         h -= dh
-        if abs(dh) <= 1e-15 * (t + h):
+        if abs(dh) <= 1e-15 * (t + h) or abs(dh) > last / 2:
             return t + h
+        last = abs(dh)
     raise RuntimeError(f"{plugin}: Newton on theta(h) = pi/2 did not converge from x0 = {x0}")
 
 

@@ -29,7 +29,7 @@ where b_1(2A/l) < 0, i.e. A/l > 0.4540 (b_1(0.9081) = 0).
 
 Criteria compared (`criteria_table`, `examples_table`, `chart`):
     Kapitza (a_0 ~ -q^2/2):                           A^2 w^2 > 2 g l
-    Tam (31), replacing cos(tau) by "its average" 1/sqrt(2) in the linearised (23):  w^2 > sqrt(2) g / A
+    Tam (31), cos(tau) replaced by "its average" 1/sqrt(2) in the linearised (24):  w^2 > sqrt(2) g / A
     exact: the Floquet boundaries above.
 Tam's step is wrong: the average of cos over a period is 0 (1/sqrt(2) is its root mean square), and
 the stabilisation is an effect of second order in A/l; for the papers' device (l = 0.20 m,

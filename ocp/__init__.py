@@ -3,6 +3,7 @@ theta'' + sin(theta) = kappa*u, |u| <= 1 (see `ocp.model` for the convention).""
 
 from .problems import Problem, swing_up, damping
 from .transcription import MultipleShooting
-from .direct import solve, Guess
+from .direct import Guess
+from .pipeline import solve
 
 __all__ = ["Problem", "swing_up", "damping", "MultipleShooting", "solve", "Guess"]

@@ -81,6 +81,8 @@ def _add_solve(sub):
     p.add_argument("--option", action="append", type=_option, default=[], metavar="KEY=VALUE",
                    help="an NLP solver option, passed untouched (repeatable), e.g. ipopt.tol=1e-10")
     p.add_argument("--miss-tol", default="1e-6", help="largest re-simulated miss accepted as success")
+    p.add_argument("--no-refine", action="store_true",
+                   help="the plain direct answer: no refinement, no competing structures, no certificate")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(run=_run_solve)
 
@@ -93,7 +95,7 @@ def _integer(name, text, accepted):
 
 
 def _run_solve(args):
-    from . import direct, problems
+    from . import pipeline, problems
     from .errors import finite
     from .transcription import MultipleShooting
 
@@ -103,7 +105,8 @@ def _run_solve(args):
                               _integer("M", args.M, "an integer >= 1"), finite("tol", args.tol, "a number in (0, 1)"))
     miss_tol = finite("miss-tol", args.miss_tol, "a number > 0")
     with _stdout_to_stderr():
-        result = direct.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol)
+        result = pipeline.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,
+                                refine=not args.no_refine)
     if args.json:
         _print_json(result.to_dict())
     else:

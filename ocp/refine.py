@@ -18,20 +18,25 @@ switching-time problem itself solved by IPOPT (d >= 0; RK4 with STEPS fixed step
 globalised, moderately accurate first stage) and from p(0) solving the conditions (linear in p(0))
 in least squares along those durations. The Lagrange multiplier of the end constraint is -p(T).
 
-The accuracy of T and of the switch times is estimated by solving again at TOL_CHECK and taking
-the difference.
+The accuracy of T and of the switch times is estimated (`with_error_estimate`) by solving again at
+TOL_CHECK, from the converged solution, and taking the difference. An arc that the first stage
+shrinks below COLLAPSE * T has collapsed: the structure is then not an extremal of its own.
 """
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import casadi as ca
 import numpy as np
 
+from .errors import last_line
+
 TOL = 1e-14
 TOL_CHECK = 1e-12
-STEPS = 200
+STEPS = 50
+COLLAPSE = 1e-7
+MAX_STEPS = 20000          # CVODES steps per arc: far more than a feasible arc needs at TOL
 RESIDUAL_TOL = 1e-10  # the conditions hold to integrator noise (Newton stops at 1e-13 where it can)
 
 
@@ -49,6 +54,7 @@ class Refined:
     p0: tuple
     residual: float
     converged: bool
+    status: str
     iterations: int
     T_error: float
     switch_time_error: float
@@ -67,7 +73,7 @@ class Refined:
             "signs": list(self.signs), "durations": list(self.durations), "T": self.T,
             "switch_times": list(self.switch_times), "switch_states": [list(s) for s in self.switch_states],
             "final_state": list(self.final_state), "p0": list(self.p0), "residual": self.residual,
-            "converged": self.converged, "iterations": self.iterations, "T_error": self.T_error,
+            "converged": self.converged, "status": self.status, "iterations": self.iterations, "T_error": self.T_error,
             "switch_time_error": self.switch_time_error, "time_s": self.time_s,
         }
 
@@ -79,7 +85,7 @@ def state_costate_flow(tol):
     theta, omega, p1, p2 = y[0], y[1], y[2], y[3]
     ode = d * ca.vertcat(omega, kappa * u - ca.sin(theta), p2 * ca.cos(theta), -p1)
     integ = ca.integrator("Phi", "cvodes", {"x": y, "p": ca.vertcat(u, d, kappa), "ode": ode}, 0, 1,
-                          {"abstol": tol, "reltol": tol, "max_num_steps": 100000})
+                          {"abstol": tol, "reltol": tol, "max_num_steps": MAX_STEPS})
     ys, us, ds, ks = ca.MX.sym("y", 4), ca.MX.sym("u"), ca.MX.sym("d"), ca.MX.sym("kappa")
     return ca.Function("Phi", [ys, us, ds, ks], [integ(x0=ys, p=ca.vertcat(us, ds, ks))["xf"]])
 
@@ -87,18 +93,28 @@ def state_costate_flow(tol):
 @lru_cache(maxsize=32)
 def _newton(n, tol):
     """Newton solver of the n-arc conditions: (v0, params) -> v, v = (d_1..d_n, p1(0), p2(0)),
-    params = (theta0, omega0, kappa, s_1..s_n, theta_T, omega_T)."""
+    params = (theta0, omega0, kappa, s_1..s_n, theta_T, omega_T).
+
+    One arc (no switch) has no switching condition: d alone must meet theta(T) = theta_T (omega(T)
+    is then checked by the residual), and p(0) is fixed by H(0) = 0 and p(0) parallel to f(x0)."""
     phi = state_costate_flow(tol)
     v = ca.MX.sym("v", n + 2)
     par = ca.MX.sym("par", 5 + n)
     x0, kappa, s, target = par[0:2], par[2], par[3:3 + n], par[3 + n:5 + n]
     y = ca.vertcat(x0, v[n:])
-    h0 = v[n] * x0[1] + v[n + 1] * (kappa * s[0] - ca.sin(x0[0])) - 1
+    f0 = ca.vertcat(x0[1], kappa * s[0] - ca.sin(x0[0]))
+    h0 = ca.dot(v[n:], f0) - 1
     at_switch = []
     for i in range(n):
         y = phi(y, s[i], v[i], kappa)
         if i < n - 1:
             at_switch.append(y[3])
+    if n == 1:
+        conditions = ca.vertcat(y[0] - target[0], h0, v[n] * f0[1] - v[n + 1] * f0[0])
+        residual = ca.Function("R", [v, par], [ca.vertcat(y[0:2] - target, h0)])
+        solver = ca.rootfinder("newton", "newton", ca.Function("C", [v, par], [conditions]),
+                               {"abstol": 1e-13, "abstolStep": 1e-15, "max_iter": 15, "error_on_fail": False})
+        return solver, residual
     residual = ca.Function("R", [v, par], [ca.vertcat(y[0:2] - target, *at_switch, h0)])
     solver = ca.rootfinder("newton", "newton", residual,
                            {"abstol": 1e-13, "abstolStep": 1e-15, "max_iter": 15, "error_on_fail": False})
@@ -158,31 +174,63 @@ def costate_guess(x0, signs, durations, kappa):
 
 
 def refine(x0, kappa, target, signs, durations):
-    """The extremal with arc signs `signs` nearest to the initial `durations` (see module doc)."""
+    """The extremal with arc signs `signs` nearest to the initial `durations` (see module doc);
+    its T_error and switch_time_error are NaN until `with_error_estimate`."""
     start = time.perf_counter()
     signs = tuple(int(s) for s in signs)
     n = len(signs)
     x0 = np.asarray(x0, float)
-    par = np.concatenate([x0, [kappa], signs, target])
-    durations, _ = switching_times(x0, kappa, target, signs, np.asarray(durations, float))
-    p0 = costate_guess(x0, signs, durations, kappa)
-    v0 = np.concatenate([durations, p0])
-    results = {}
-    for tol in (TOL, TOL_CHECK):
-        solver, residual = _newton(n, tol)
-        v = np.array(solver(v0, par)).ravel()
-        results[tol] = (v, float(np.max(np.abs(np.array(residual(v, par))))), solver.stats())
-    v, res, stats = results[TOL]
-    v_check = results[TOL_CHECK][0]
+    durations = np.asarray(durations, float)
+    if n >= 2:
+        durations, ok = switching_times(x0, kappa, target, signs, durations)
+        if not ok:
+            return _failed(signs, durations, "the switching-time problem has no solution from this start", start)
+        short = [i for i, d in enumerate(durations) if d < COLLAPSE * np.sum(durations)]
+        if short:
+            return _failed(signs, durations, "collapsed: zero-length arc " + ", ".join(str(i + 1) for i in short), start)
+    v, res, iterations, failure = _solve(n, TOL, np.concatenate([durations, costate_guess(x0, signs, durations, kappa)]),
+                                         np.concatenate([x0, [kappa], signs, target]))
+    if failure:
+        return _failed(signs, durations, failure, start)
     d = v[:n]
     y = _trajectory(x0, v[n:], signs, d, kappa, TOL)
-    switch_times = tuple(np.cumsum(d)[:-1])
-    converged = res < RESIDUAL_TOL and bool(np.all(d >= 0))
+    nan = float("nan")
     return Refined(
-        signs=signs, durations=tuple(d), T=float(np.sum(d)), switch_times=switch_times,
+        signs=signs, durations=tuple(d), T=float(np.sum(d)), switch_times=tuple(np.cumsum(d)[:-1]),
         switch_states=tuple(tuple(row[:2]) for row in y[1:-1]), final_state=tuple(y[-1, :2]),
-        p0=tuple(v[n:]), residual=res, converged=converged, iterations=int(stats.get("iter_count", -1)),
-        T_error=float(abs(np.sum(d) - np.sum(v_check[:n]))),
-        switch_time_error=float(np.max(np.abs(np.cumsum(d)[:-1] - np.cumsum(v_check[:n])[:-1]), initial=0.0)),
-        time_s=time.perf_counter() - start,
+        p0=tuple(v[n:]), residual=res, converged=True, status="converged", iterations=iterations,
+        T_error=nan, switch_time_error=nan, time_s=time.perf_counter() - start,
     )
+
+
+def _solve(n, tol, v0, par):
+    """(v, residual, iterations, failure or "") of the Newton solve of the n-arc conditions."""
+    solver, residual = _newton(n, tol)
+    try:
+        v = np.array(solver(v0, par)).ravel()
+    except RuntimeError as err:
+        return v0, float("nan"), -1, f"Newton failed: {last_line(err)}"
+    res = float(np.max(np.abs(np.array(residual(v, par)))))
+    if not (res < RESIDUAL_TOL and np.all(v[:n] >= 0)):
+        return v, res, -1, f"Newton did not converge (residual {res:.1e})"
+    return v, res, int(solver.stats().get("iter_count", -1)), ""
+
+
+def with_error_estimate(refined, x0, kappa, target):
+    """`refined` with T_error and switch_time_error: the change when solved again at TOL_CHECK."""
+    n = len(refined.signs)
+    par = np.concatenate([x0, [kappa], refined.signs, target])
+    v, _, _, failure = _solve(n, TOL_CHECK, np.concatenate([refined.durations, refined.p0]), par)
+    if failure:
+        return replace(refined, status=f"converged; error estimate failed: {failure}")
+    d, d_check = np.array(refined.durations), v[:n]
+    return replace(refined, T_error=float(abs(np.sum(d) - np.sum(d_check))),
+                   switch_time_error=float(np.max(np.abs(np.cumsum(d)[:-1] - np.cumsum(d_check)[:-1]), initial=0.0)))
+
+
+def _failed(signs, durations, status, start):
+    nan = float("nan")
+    return Refined(signs=signs, durations=tuple(durations), T=float(np.sum(durations)), switch_times=(),
+                   switch_states=(), final_state=(nan, nan), p0=(nan, nan), residual=nan, converged=False,
+                   status=status, iterations=-1, T_error=nan, switch_time_error=nan,
+                   time_s=time.perf_counter() - start)

@@ -6,25 +6,30 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .problems import Problem
-from .structure import Structure
+from .verify import defended
+from .structure import Structure, pattern
 
 
 @dataclass
 class Solution:
     """A minimum-time solution and how it was obtained.
 
-    T: final time (nondimensional); t, x, u: time grid (N+1), node states (N+1, 2) and the
-    piecewise-constant control (N). branch: the k of the target reached. success: the NLP solver
-    converged AND the re-simulated control reaches the target within `miss_tol` (a transcription
-    can report a time below the true optimum with a control that misses the target: that is a
-    failure). resim_miss: Euclidean distance in (theta, omega) from the target of the control
-    re-simulated by an independent tight integrator (scipy DOP853, rtol = atol = 1e-12).
-    starts: every initial guess tried, with its outcome (failures are kept as data).
+    The direct solution: T_direct, the time grid t (N+1), node states x (N+1, 2), the piecewise-
+    constant control u (N), its `structure`, and `branch` (the k of the target reached). success:
+    the NLP solver converged AND the control re-simulated by an independent tight integrator
+    (scipy DOP853, rtol = atol = 1e-12) lands within `miss_tol` of the target (`resim_miss`, the
+    Euclidean distance in (theta, omega)); a transcription can report a time below the optimum
+    with a control that misses the target, and that is a failure. starts: every initial guess
+    tried, with its outcome.
+
+    After `ocp.solve` with refinement: `refined` (an `ocp.refine.Refined`, the best candidate),
+    `certificate` (`ocp.certificate.Certificate`), `candidates` (every structure examined). T,
+    n_switches, first_u, switch_times and switch_states are then the refined values.
     """
 
     problem: Problem
     method: dict
-    T: float
+    T_direct: float
     t: np.ndarray
     x: np.ndarray
     u: np.ndarray
@@ -41,76 +46,139 @@ class Solution:
     total_time_s: float
     guess: str
     starts: list = field(default_factory=list)
+    refined: object = None
+    refined_branch: int | None = None
+    certificate: object = None
+    candidates: list = field(default_factory=list)
+    refine_time_s: float = 0.0
+
+    @property
+    def T(self):
+        return self.refined.T if self.refined else self.T_direct
 
     @property
     def target(self):
-        return self.problem.target(self.branch)
+        return self.problem.target(self.refined_branch if self.refined else self.branch)
 
     @property
     def n_switches(self):
-        return self.structure.n_switches
+        return self.refined.n_switches if self.refined else self.structure.n_switches
 
     @property
     def first_u(self):
-        return self.structure.first_u
+        return self.refined.first_u if self.refined else self.structure.first_u
 
     @property
     def switch_times(self):
-        return list(self.structure.switch_times)
+        return list(self.refined.switch_times if self.refined else self.structure.switch_times)
 
     @property
     def switch_states(self):
-        return [tuple(s) for s in self.structure.switch_states]
+        return [tuple(s) for s in (self.refined.switch_states if self.refined else self.structure.switch_states)]
+
+    @property
+    def arc_signs(self):
+        return tuple(self.refined.signs if self.refined else self.structure.arc_signs)
+
+    @property
+    def certified(self):
+        return bool(self.certificate and self.certificate.certified)
+
+    @property
+    def verdict(self):
+        """What this result is, in one sentence."""
+        if not self.success:
+            return f"no solution: {self.status}"
+        if self.refined is None:
+            return ("direct solution, not refined" if not self.candidates
+                    else "direct solution; no candidate structure could be refined")
+        valid = sum(c.valid for c in self.candidates)
+        best = f"best of {valid} extremal{'s' if valid != 1 else ''} among {len(self.candidates)} candidate structures"
+        if self.certified:
+            return f"certified extremal (Pontryagin first- and second-order conditions hold), {best}; global optimality not proved"
+        c = self.certificate
+        failed = [name for name, ok in (("first-order", c.first_order), ("strict bang-bang", c.strict_bang_bang),
+                                        ("second-order", c.second_order)) if not ok]
+        return f"refined, NOT certified ({', '.join(failed)} check failed), {best}"
 
     def to_dict(self):
         """Plain JSON-ready data: the keys of `ocp solve --json`."""
-        p = self.problem
-        return {
+        p, s = self.problem, self.structure
+        out = {
             "problem": p.kind,
             "kappa": p.kappa,
             "x0": list(p.x0),
             "target": list(self.target),
-            "branch": self.branch,
+            "branch": self.refined_branch if self.refined else self.branch,
             "branch_pinned": p.branch is not None,
             "T": self.T,
+            "T_error": self.refined.T_error if self.refined else None,
             "n_switches": self.n_switches,
             "first_u": self.first_u,
+            "arc_signs": list(self.arc_signs),
             "switch_times": self.switch_times,
-            "switch_states": [list(s) for s in self.switch_states],
-            "structure": self.structure.to_dict(),
+            "switch_time_error": self.refined.switch_time_error if self.refined else None,
+            "switch_states": [list(x) for x in self.switch_states],
             "success": self.success,
             "status": self.status,
-            "solver_success": self.solver_success,
+            "refined": self.refined is not None,
+            "certified": self.certified,
+            "verdict": self.verdict,
             "solver": self.method["solver"],
             "method": self.method,
             "iterations": self.iterations,
             "build_time_s": self.build_time_s,
             "solve_time_s": self.solve_time_s,
+            "refine_time_s": self.refine_time_s,
             "total_time_s": self.total_time_s,
             "resim_miss": self.resim_miss,
             "miss_tol": self.miss_tol,
-            "guess": self.guess,
-            "starts": self.starts,
+            "direct": {"T": self.T_direct, "branch": self.branch, "structure": s.to_dict(), "guess": self.guess,
+                       "starts": self.starts},
         }
+        if self.refined is not None:
+            out["refinement"] = self.refined.to_dict()
+            out["certificate"] = self.certificate.to_dict()
+        out["candidates"] = [c.to_dict() for c in self.candidates]
+        return out
 
     def summary(self):
         """A few lines a person can read."""
         p, s, m = self.problem, self.structure, self.method
         lines = [f"{p.kind}, kappa = {p.kappa:g}, from (theta, omega) = ({p.x0[0]:.6g}, {p.x0[1]:.6g}) "
-                 f"to ({_angle(self.target[0])}, 0)  [branch k = {self.branch}{', pinned' if p.branch is not None else ''}]"]
-        lines.append(f"T = {self.T:.{_decimals(s.h)}f}   (direct transcription: switch times within "
-                     f"a grid spacing h = {s.h:.2g}; not refined)")
-        signs = " ".join("+1" if v > 0 else "-1" for v in s.arc_signs)
-        lines.append(f"{s.n_switches} switch{'es' if s.n_switches != 1 else ''}, u = {signs}"
-                     + ("" if s.bang_bang else f"   (NOT resolved as bang-bang: {s.longest_interior_run} interior intervals in a row)"))
-        for i, (tau, (th, om)) in enumerate(zip(s.switch_times, s.switch_states), 1):
-            lines.append(f"  switch {i}: t = {tau:.4f}  at (theta, omega) = ({th:.4f}, {om:.4f})")
-        lines.append(f"{'success' if self.success else 'FAILED'}: {self.status}; {m['solver']} "
-                     f"{self.iterations} iterations; re-simulated miss {self.resim_miss:.1e} (tolerance {self.miss_tol:.0e})")
+                 f"to ({_angle(self.target[0])}, 0)  [branch k = {self.to_dict()['branch']}"
+                 f"{', pinned' if p.branch is not None else ''}]"]
+        if self.refined:
+            r = self.refined
+            lines.append(f"T = {defended(r.T, r.T_error)}   (refined; error estimate {r.T_error:.0e})")
+            digits = lambda v: defended(v, r.switch_time_error)
+        else:
+            lines.append(f"T = {self.T_direct:.{_decimals(s.h)}f}   (direct transcription: error below h^2/4 observed, "
+                         f"h = {s.h:.2g}; not refined)")
+            digits = lambda v: f"{v:.4f}"
+        signs = pattern(self.arc_signs)
+        lines.append(f"{self.n_switches} switch{'es' if self.n_switches != 1 else ''}, u = {signs}"
+                     + ("" if s.bang_bang else f"   (direct control NOT resolved as bang-bang: "
+                                                f"{s.longest_interior_run} interior intervals in a row)"))
+        for i, (tau, (th, om)) in enumerate(zip(self.switch_times, self.switch_states), 1):
+            lines.append(f"  switch {i}: t = {digits(tau)}  at (theta, omega) = ({th:.10f}, {om:.10f})")
+        lines.append(self.verdict)
+        if self.certificate:
+            c = self.certificate
+            lines.append(f"  residuals: p2 at switches {c.switch_residual:.0e}, |H| <= {c.hamiltonian_deviation:.0e}, "
+                         f"sign(p2) = u everywhere: {c.sign_violation == 0 and c.extra_zeros == 0}, "
+                         f"reduced Hessian eigenvalues {[float(f'{e:.3g}') for e in c.reduced_hessian_eigenvalues]}")
+        for c in self.candidates:
+            T = "-" if c.T is None else f"{c.T:.10f}"
+            lines.append(f"  candidate {pattern(c.signs):<18} branch {c.branch:+d}  T = {T:<14} {c.status}  [{c.label}]")
+        lines.append(f"direct: {'success' if self.success else 'FAILED'}: {self.status}; T = {self.T_direct:.{_decimals(s.h)}f}; "
+                     f"{m['solver']} {self.iterations} iterations; re-simulated miss {self.resim_miss:.1e} "
+                     f"(tolerance {self.miss_tol:.0e})")
         lines.append(f"method: multiple shooting, N = {m['N']}, integrator {m['integrator']}"
                      + (f" (M = {m['M']})" if m["integrator"] != "cvodes" else f" (tol {m['tol']:g})")
                      + f"; guess {self.guess} (best of {len(self.starts)} starts)"
-                     f"; build {self.build_time_s:.3f} s, solve {self.solve_time_s:.3f} s, total {self.total_time_s:.3f} s")
+                     f"; build {self.build_time_s:.2f} s, solve {self.solve_time_s:.2f} s, "
+                     f"refine {self.refine_time_s:.2f} s, total {self.total_time_s:.2f} s")
         return "\n".join(lines)
 
 
@@ -121,5 +189,6 @@ def _angle(theta):
 
 
 def _decimals(h):
-    """Decimals of T worth printing for a direct solution on spacing h (its error is O(h^2))."""
-    return max(2, min(8, math.ceil(-2 * math.log10(h))))
+    """Decimals of a direct T worth printing: its error was observed below h^2/4 (the switch interval's
+    control averages the switch; tests/test_direct.py), so half a unit of the last decimal >= h^2/4."""
+    return max(1, min(8, math.floor(-math.log10(0.5 * h * h))))

@@ -45,6 +45,11 @@ class Structure:
         }
 
 
+def pattern(signs):
+    """Arc signs as text: (1, -1) -> "+1 -1"."""
+    return " ".join("+1" if s > 0 else "-1" for s in signs) or "(no arc)"
+
+
 def _runs(labels):
     """[(label, start, stop)] of maximal runs of equal labels."""
     runs, start = [], 0

@@ -1,0 +1,120 @@
+"""`ocp.solve`: direct solution, then refinement and certificate of the best of competing structures.
+
+    direct multiple shooting  ->  structure (signs, arc durations, branch)
+    -> candidates: the structure found; one switch less (first or last arc dropped); one switch
+       more (an arc of the opposite sign before or after); the other first sign; the structures
+       of direct solves pinned to the neighbouring target branches k - 1 and k + 1
+    -> each refined (`ocp.refine`) and re-simulated independently (`ocp.simulate.arcs`)
+    -> the best verified candidate certified (`ocp.certificate`).
+
+A candidate whose arc collapses to zero length is recorded as such; failures stay in the list.
+"Best of K candidate structures" is what the result claims; global optimality is never claimed.
+"""
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import direct, simulate
+from .certificate import certify
+from .problems import Problem
+from .transcription import MultipleShooting
+from .refine import refine, with_error_estimate
+
+#: a refined candidate is verified when its independent re-simulation lands this close
+CANDIDATE_MISS_TOL = 1e-8
+
+
+@dataclass(frozen=True)
+class Candidate:
+    label: str
+    signs: tuple
+    branch: int
+    status: str               # "extremal", "no extremal: ...", "misses ...", "duplicate of ..."
+    T: float | None
+    refined: object = None
+    resim_miss: float | None = None
+
+    @property
+    def valid(self):
+        return self.status == "extremal"
+
+    def to_dict(self):
+        return {"label": self.label, "signs": list(self.signs), "branch": self.branch, "status": self.status,
+                "T": self.T, "resim_miss": self.resim_miss,
+                "T_error": None if self.refined is None else self.refined.T_error}
+
+
+def neighbours(signs, durations):
+    """(label, signs, durations) of the structure found and its neighbours (see module doc)."""
+    signs, d = tuple(signs), list(durations)
+    T = sum(d)
+    out = [("found", signs, d)]
+    if len(signs) > 1:
+        out.append(("one switch less (first arc dropped)", signs[1:], [d[0] + d[1]] + d[2:]))
+        out.append(("one switch less (last arc dropped)", signs[:-1], d[:-2] + [d[-2] + d[-1]]))
+    short = 0.05 * T
+    out.append(("one switch more (arc before)", (-signs[0],) + signs, [short, max(d[0] - short, short)] + d[1:]))
+    out.append(("one switch more (arc after)", signs + (-signs[-1],), d[:-1] + [max(d[-1] - short, short), short]))
+    out.append(("other first sign", tuple(-s for s in signs), d))
+    return out
+
+
+def _durations(sol):
+    return np.diff(np.concatenate([[0.0], sol.structure.switch_times, [sol.T_direct]]))
+
+
+def _candidate(problem, label, signs, durations, branch):
+    target = problem.target(branch)
+    r = refine(problem.x0, problem.kappa, target, signs, durations)
+    if not r.converged:
+        return Candidate(label, tuple(signs), branch, f"no extremal: {r.status}", None, r)
+    end = simulate.arcs(problem.x0, signs, r.durations, problem.kappa)[-1]
+    miss = float(np.hypot(*(end - np.array(target))))
+    status = "extremal" if miss <= CANDIDATE_MISS_TOL else f"misses the target by {miss:.1e} on re-simulation"
+    return Candidate(label, tuple(signs), branch, status, r.T, r, miss)
+
+
+def explore(problem, sol, method, solver, options):
+    """Refined candidates around the direct solution `sol` (list, valid ones first by T); the
+    neighbouring branches are reached by direct solves from the straight guess."""
+    method = method or MultipleShooting()
+    found = [(label, signs, d, sol.branch) for label, signs, d in neighbours(sol.structure.arc_signs, _durations(sol))]
+    if problem.branch is None:
+        for k in (sol.branch - 1, sol.branch + 1):
+            pinned = Problem(problem.kind, problem.kappa, problem.x0, k)
+            other = direct.solve(pinned, method, solver, options, direct.default_guesses(pinned, method.N)[0])
+            if other.success:
+                found.append((f"direct solve to branch {k}", other.structure.arc_signs, _durations(other), k))
+    candidates = []
+    for label, signs, d, branch in found:
+        c = _candidate(problem, label, signs, d, branch)
+        twin = next((o for o in candidates if o.valid and c.valid and o.signs == c.signs and o.branch == c.branch
+                     and abs(o.T - c.T) < 1e-8 * max(1.0, o.T)), None)
+        if twin is not None:
+            c = Candidate(c.label, c.signs, c.branch, f"duplicate of '{twin.label}'", c.T, c.refined, c.resim_miss)
+        candidates.append(c)
+    return sorted(candidates, key=lambda c: (not c.valid, c.T if c.T is not None else np.inf))
+
+
+def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=direct.MISS_TOL,
+          refine=True):
+    """The minimum-time solution of `problem`: `ocp.direct.solve` (same arguments), then, when
+    `refine` and the direct solve succeeded, the candidates of `explore`, the best refined and
+    certified. Returns the direct `Solution` with `refined`, `certificate` and `candidates` set."""
+    start = time.perf_counter()
+    sol = direct.solve(problem, method, solver, options, guess, miss_tol)
+    if not refine or not sol.success:
+        return sol
+    refine_start = time.perf_counter()
+    sol.candidates = explore(problem, sol, method, solver, options)
+    best = sol.candidates[0]
+    if best.valid:
+        x0 = np.asarray(problem.x0, float)
+        sol.refined = with_error_estimate(best.refined, x0, problem.kappa, problem.target(best.branch))
+        sol.refined_branch = best.branch
+        sol.certificate = certify(sol.refined, x0, problem.kappa)
+    sol.refine_time_s = time.perf_counter() - refine_start
+    sol.total_time_s = time.perf_counter() - start
+    return sol

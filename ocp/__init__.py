@@ -2,8 +2,8 @@
 theta'' + sin(theta) = kappa*u, |u| <= 1 (see `ocp.model` for the convention)."""
 
 from .problems import Problem, swing_up, damping
-from .transcription import MultipleShooting
+from .transcription import DirectCollocation, MultipleShooting
 from .direct import Guess
 from .pipeline import solve
 
-__all__ = ["Problem", "swing_up", "damping", "MultipleShooting", "solve", "Guess"]
+__all__ = ["Problem", "swing_up", "damping", "MultipleShooting", "DirectCollocation", "solve", "Guess"]

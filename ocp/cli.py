@@ -73,10 +73,12 @@ def _add_solve(sub):
     p.add_argument("--kappa", required=True, help="torque bound tau0/(m g l), > 0")
     p.add_argument("--x0", nargs=2, metavar=("THETA", "OMEGA"), help="initial state (rad, rad per unit time)")
     p.add_argument("--branch", help="pin the target branch k (swing-up: pi + 2*pi*k, damping: 2*pi*k); default: any")
-    p.add_argument("--N", default="100", help="shooting intervals (>= 2), default 100")
+    p.add_argument("--transcription", default="multiple-shooting", help="multiple-shooting (default) or direct-collocation")
+    p.add_argument("--N", default="100", help="intervals (>= 2), default 100")
     p.add_argument("--integrator", default="rk4", help=f"one of: {', '.join(INTEGRATORS)}; default rk4")
     p.add_argument("--M", default="4", help="rk4 steps or collocation elements per interval, default 4")
     p.add_argument("--tol", default="1e-10", help="cvodes tolerance, default 1e-10")
+    p.add_argument("--degree", default="3", help="direct collocation: Radau points per interval, default 3")
     p.add_argument("--solver", default="ipopt", help="a casadi.nlpsol plugin (ipopt, fatrop, sqpmethod, ...)")
     p.add_argument("--option", action="append", type=_option, default=[], metavar="KEY=VALUE",
                    help="an NLP solver option, passed untouched (repeatable), e.g. ipopt.tol=1e-10")
@@ -97,12 +99,18 @@ def _integer(name, text, accepted):
 def _run_solve(args):
     from . import pipeline, problems
     from .errors import finite
-    from .transcription import MultipleShooting
+    from .transcription import DirectCollocation, MultipleShooting
 
     problem = problems.make(args.problem, args.kappa, args.x0,
                             None if args.branch is None else _integer("branch", args.branch, "an integer k"))
-    method = MultipleShooting(_integer("N", args.N, "an integer >= 2"), args.integrator,
-                              _integer("M", args.M, "an integer >= 1"), finite("tol", args.tol, "a number in (0, 1)"))
+    N = _integer("N", args.N, "an integer >= 2")
+    if args.transcription == "multiple-shooting":
+        method = MultipleShooting(N, args.integrator, _integer("M", args.M, "an integer >= 1"),
+                                  finite("tol", args.tol, "a number in (0, 1)"))
+    elif args.transcription == "direct-collocation":
+        method = DirectCollocation(N, _integer("degree", args.degree, "an integer from 1 to 9"))
+    else:
+        raise InputError(f"unknown transcription {args.transcription!r}; accepted: multiple-shooting, direct-collocation")
     miss_tol = finite("miss-tol", args.miss_tol, "a number > 0")
     with _stdout_to_stderr():
         result = pipeline.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,

@@ -174,8 +174,9 @@ class Solution:
         lines.append(f"direct: {'success' if self.success else 'FAILED'}: {self.status}; T = {self.T_direct:.{_decimals(s.h)}f}; "
                      f"{m['solver']} {self.iterations} iterations; re-simulated miss {self.resim_miss:.1e} "
                      f"(tolerance {self.miss_tol:.0e})")
-        lines.append(f"method: multiple shooting, N = {m['N']}, integrator {m['integrator']}"
-                     + (f" (M = {m['M']})" if m["integrator"] != "cvodes" else f" (tol {m['tol']:g})")
+        lines.append(f"method: {m['transcription']}, N = {m['N']}, integrator {m['integrator']}"
+                     + {"cvodes": f" (tol {m.get('tol', 0):g})", "radau": f" (degree {m.get('degree')})"}.get(
+                         m["integrator"], f" (M = {m.get('M')})")
                      + f"; guess {self.guess} (best of {len(self.starts)} starts)"
                      f"; build {self.build_time_s:.2f} s, solve {self.solve_time_s:.2f} s, "
                      f"refine {self.refine_time_s:.2f} s, total {self.total_time_s:.2f} s")

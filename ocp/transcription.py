@@ -1,16 +1,20 @@
-"""Direct multiple shooting with free final time, for the problems of `ocp.problems`.
+"""Direct transcriptions with free final time, for the problems of `ocp.problems`.
 
-Time is scaled to s = t/T in [0, 1]; on N equal intervals the control is constant, u_k in [-1, 1],
-and an integrator maps the node state over one interval:
+Time is scaled to s = t/T in [0, 1]; on N equal intervals the control is constant, u_k in [-1, 1].
+`MultipleShooting`: an integrator maps the node state over one interval,
 
     z_{k+1} = F(z_k, u_k),   z_k = (theta_k, omega_k, T_k),   T_{k+1} = T_k,
     minimise T_0   s.t.   z_0 = (x0, T_0),   omega_N = 0,   theta_N at the target.
+
+`DirectCollocation`: the state on interval k is the polynomial through x_k and d Radau points
+X_k1..X_kd (unknowns of the NLP, stage k), sum_r C[r, j] X_kr = h f(X_kj, u_k) for j = 1..d, and
+x_{k+1} = X_kd (Radau IIA, order 2d - 1 at the nodes).
 
 T is carried as a state (constant across the stages) so the NLP is stagewise, as structure-
 exploiting solvers (fatrop) require. The target angle is either pinned by bounds
 (theta_N = base + 2*pi*k) or left to any branch: sin(theta_N - base) = 0, cos(theta_N - base) >= 0.
 
-A built NLP depends only on the `MultipleShooting` settings, the solver and its options, and
+A built NLP depends only on the transcription settings, the solver and its options, and
 whether the branch is free: kappa, x0, the target and the initial guess are solve-time inputs, so
 one build serves every problem (`build` caches it).
 """
@@ -52,7 +56,47 @@ class MultipleShooting:
             raise InputError(f"tol = {self.tol!r} must be in (0, 1) (CVODES relative and absolute tolerance)")
 
     def to_dict(self):
-        return asdict(self)
+        return dict(asdict(self), transcription="multiple shooting")
+
+    @property
+    def stage_extra(self):
+        return 0
+
+
+@dataclass(frozen=True)
+class DirectCollocation:
+    """N intervals, each with Radau collocation of `degree` (order 2*degree - 1 at the nodes)."""
+
+    N: int = 100
+    degree: int = 3
+
+    def __post_init__(self):
+        if isinstance(self.N, bool) or not isinstance(self.N, int) or self.N < 2:
+            raise InputError(f"N = {self.N!r} must be an integer >= 2 (the number of collocation intervals)")
+        if isinstance(self.degree, bool) or not isinstance(self.degree, int) or not 1 <= self.degree <= 9:
+            raise InputError(f"degree = {self.degree!r} must be an integer from 1 to 9 (Radau points per interval)")
+
+    def to_dict(self):
+        return dict(asdict(self), transcription="direct collocation", integrator="radau")
+
+    @property
+    def stage_extra(self):
+        """Collocation states per stage: 2 per Radau point."""
+        return 2 * self.degree
+
+
+def radau_matrices(degree):
+    """C (d+1 x d+1): C[r, j] = l_r'(tau_j) for the Lagrange basis on (0, tau_1..tau_d), the
+    Radau IIA points of `degree`."""
+    tau = np.concatenate([[0.0], ca.collocation_points(degree, "radau")])
+    C = np.zeros((degree + 1, degree + 1))
+    for r in range(degree + 1):
+        basis = np.poly1d([1.0])
+        for m in range(degree + 1):
+            if m != r:
+                basis *= np.poly1d([1.0, -tau[m]]) / (tau[r] - tau[m])
+        C[r] = np.polyder(basis)(tau)
+    return C
 
 
 def interval_map(settings):
@@ -86,7 +130,8 @@ def interval_map(settings):
 class Transcription:
     """A built NLP: the CasADi solver and the layout of its variables.
 
-    w = [z_0, u_0, z_1, u_1, ..., z_N] with z_k = (theta_k, omega_k, T_k); p = (kappa, base).
+    w = [z_0, u_0, c_0, z_1, u_1, c_1, ..., z_N] with z_k = (theta_k, omega_k, T_k), c_k the
+    collocation states of stage k (none for shooting); p = (kappa, base).
     """
 
     settings: MultipleShooting
@@ -106,14 +151,16 @@ class Transcription:
 
     def index(self):
         """Index arrays into w: theta, omega, T (N+1 each) and u (N)."""
-        N = self.N
-        node = np.arange(N + 1) * 4
+        node = np.arange(self.N + 1) * (4 + self.settings.stage_extra)
         return node, node + 1, node + 2, node[:-1] + 3
 
     def pack(self, theta, omega, T, u):
+        """w from node values; collocation states start at the interval's first node."""
         w = np.zeros(self.n_w)
         i_th, i_om, i_T, i_u = self.index()
         w[i_th], w[i_om], w[i_T], w[i_u] = theta, omega, T, u
+        for j in range(self.settings.stage_extra // 2):
+            w[i_u + 1 + 2 * j], w[i_u + 2 + 2 * j] = theta[:-1], omega[:-1]
         return w
 
     def bounds(self, x0, theta_end=None):
@@ -132,18 +179,32 @@ class Transcription:
 
 def _nlp(settings, free_branch):
     N = settings.N
-    F = interval_map(settings)
-    sym = ca.MX if settings.integrator == "cvodes" else ca.SX
+    collocation = isinstance(settings, DirectCollocation)
+    F = None if collocation else interval_map(settings)
+    sym = ca.MX if getattr(settings, "integrator", "") == "cvodes" else ca.SX
     z = [sym.sym(f"z{k}", 3) for k in range(N + 1)]
     u = [sym.sym(f"u{k}") for k in range(N)]
     kappa, base = sym.sym("kappa"), sym.sym("base")
-    w, g = [], []
+    w, g, lbg, ubg = [], [], [], []
     for k in range(N):
+        h = z[k][2] / N
         w += [z[k], u[k]]
-        xf = F(z[k][:2], u[k], z[k][2] / N, kappa)
+        if collocation:
+            d = settings.degree
+            X = [z[k][:2]] + [sym.sym(f"x{k}_{j}", 2) for j in range(1, d + 1)]
+            w += X[1:]
+            C = radau_matrices(d)
+            for j in range(1, d + 1):
+                g.append(sum(C[r, j] * X[r] for r in range(d + 1)) - h * model.rhs(X[j], u[k], kappa))
+            xf = X[d]
+            lbg += [0.0] * 2 * d
+            ubg += [0.0] * 2 * d
+        else:
+            xf = F(z[k][:2], u[k], h, kappa)
         g.append(z[k + 1] - ca.vertcat(xf, z[k][2]))
+        lbg += [0.0] * 3
+        ubg += [0.0] * 3
     w.append(z[N])
-    lbg, ubg = [0.0] * (3 * N), [0.0] * (3 * N)
     if free_branch:
         g += [ca.sin(z[N][0] - base), ca.cos(z[N][0] - base)]
         lbg += [0.0, 0.0]
@@ -154,7 +215,7 @@ def _nlp(settings, free_branch):
 
 def _solver_options(solver_name, options, settings, lbg, ubg):
     opts = dict(options)
-    if settings.integrator != "cvodes":
+    if getattr(settings, "integrator", "") != "cvodes":
         opts.setdefault("expand", True)
     if solver_name == "ipopt":
         opts.setdefault("ipopt.print_level", 0)

@@ -24,6 +24,8 @@ from .refine import refine, with_error_estimate
 
 #: a refined candidate is verified when its independent re-simulation lands this close
 CANDIDATE_MISS_TOL = 1e-8
+#: candidates whose T differ by less than this (relative) are equally good
+TIE = 1e-9
 
 
 @dataclass(frozen=True)
@@ -91,21 +93,36 @@ def explore(problem, sol, method, solver, options):
     for label, signs, d, branch in found:
         c = _candidate(problem, label, signs, d, branch)
         twin = next((o for o in candidates if o.valid and c.valid and o.signs == c.signs and o.branch == c.branch
-                     and abs(o.T - c.T) < 1e-8 * max(1.0, o.T)), None)
+                     and abs(o.T - c.T) <= TIE * max(1.0, o.T)), None)
         if twin is not None:
             c = Candidate(c.label, c.signs, c.branch, f"duplicate of '{twin.label}'", c.T, c.refined, c.resim_miss)
         candidates.append(c)
-    return sorted(candidates, key=lambda c: (not c.valid, c.T if c.T is not None else np.inf))
+    ranked = sorted(candidates, key=lambda c: (not c.valid, c.T if c.T is not None else np.inf))
+    if ranked[0].valid:
+        # equal times (a symmetric start: mirror images) keep the branch the direct solve reached
+        tie = [c for c in ranked if c.valid and c.T - ranked[0].T <= TIE * max(1.0, ranked[0].T)]
+        first = min(tie, key=lambda c: (c.branch != sol.branch, ranked.index(c)))
+        ranked.remove(first)
+        ranked.insert(0, first)
+    return ranked
 
 
 def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=direct.MISS_TOL,
           refine=True):
     """The minimum-time solution of `problem`: `ocp.direct.solve` (same arguments), then, when
     `refine` and the direct solve succeeded, the candidates of `explore`, the best refined and
-    certified. Returns the direct `Solution` with `refined`, `certificate` and `candidates` set."""
+    certified. A given `guess` whose direct solve fails is followed by the default guesses.
+    Returns the direct `Solution` with `refined`, `certificate` and `candidates` set."""
     start = time.perf_counter()
     sol = direct.solve(problem, method, solver, options, guess, miss_tol)
+    if refine and not sol.success and guess is not None:
+        # the given guess failed: the default family is the next start (all starts stay recorded)
+        fallback = direct.solve(problem, method, solver, options, None, miss_tol)
+        fallback.starts = sol.starts + fallback.starts
+        fallback.solve_time_s += sol.solve_time_s
+        sol = fallback
     if not refine or not sol.success:
+        sol.total_time_s = time.perf_counter() - start
         return sol
     refine_start = time.perf_counter()
     sol.candidates = explore(problem, sol, method, solver, options)

@@ -131,6 +131,7 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
         x0 = np.asarray(problem.x0, float)
         sol.refined = with_error_estimate(best.refined, x0, problem.kappa, problem.target(best.branch))
         sol.refined_branch = best.branch
+        sol.refined_resim_miss = best.resim_miss
         sol.certificate = certify(sol.refined, x0, problem.kappa)
     sol.refine_time_s = time.perf_counter() - refine_start
     sol.total_time_s = time.perf_counter() - start

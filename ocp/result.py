@@ -23,7 +23,8 @@ class Solution:
     tried, with its outcome.
 
     After `ocp.solve` with refinement: `refined` (an `ocp.refine.Refined`, the best candidate),
-    `certificate` (`ocp.certificate.Certificate`), `candidates` (every structure examined). T,
+    `certificate` (`ocp.certificate.Certificate`), `candidates` (every structure examined),
+    `refined_resim_miss` (the refined arcs re-simulated by the same independent integrator). T,
     n_switches, first_u, switch_times and switch_states are then the refined values.
     """
 
@@ -48,6 +49,7 @@ class Solution:
     starts: list = field(default_factory=list)
     refined: object = None
     refined_branch: int | None = None
+    refined_resim_miss: float | None = None
     certificate: object = None
     candidates: list = field(default_factory=list)
     refine_time_s: float = 0.0
@@ -131,10 +133,10 @@ class Solution:
             "solve_time_s": self.solve_time_s,
             "refine_time_s": self.refine_time_s,
             "total_time_s": self.total_time_s,
-            "resim_miss": self.resim_miss,
+            "resim_miss": self.refined_resim_miss if self.refined else self.resim_miss,
             "miss_tol": self.miss_tol,
-            "direct": {"T": self.T_direct, "branch": self.branch, "structure": s.to_dict(), "guess": self.guess,
-                       "starts": self.starts},
+            "direct": {"T": self.T_direct, "branch": self.branch, "structure": s.to_dict(), "resim_miss": self.resim_miss,
+                       "guess": self.guess, "starts": self.starts},
         }
         if self.refined is not None:
             out["refinement"] = self.refined.to_dict()
@@ -150,7 +152,8 @@ class Solution:
                  f"{', pinned' if p.branch is not None else ''}]"]
         if self.refined:
             r = self.refined
-            lines.append(f"T = {defended(r.T, r.T_error)}   (refined; error estimate {r.T_error:.0e})")
+            lines.append(f"T = {defended(r.T, r.T_error)}   (refined; error estimate {r.T_error:.0e}; "
+                         f"independent re-simulation misses the target by {self.refined_resim_miss:.0e})")
             digits = lambda v: defended(v, r.switch_time_error)
         else:
             lines.append(f"T = {self.T_direct:.{_decimals(s.h)}f}   (direct transcription: error below h^2/4 observed, "

@@ -26,7 +26,7 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 from scipy.special import ellipk, sici
 
 from .verify import Reproduction
@@ -37,24 +37,29 @@ _KINDS = {"swing-up": ((0.0, 0.0), (math.pi, 0.0)), "damping": ((math.pi, 0.0), 
 
 # --- quadrature ---------------------------------------------------------------------------------
 
-@lru_cache(maxsize=None)
-def _legendre(n):
-    return np.polynomial.legendre.leggauss(n)
+_NODES = {n: np.polynomial.legendre.leggauss(n) for n in (32, 64)}
 
 
-def _gauss(f, a, b, n_max=1 << 15):
-    """(integral of the analytic, vectorised f over [a, b], error estimate): Gauss-Legendre with
-    n = 16, 32, ... nodes until two successive values agree to 4 eps; the estimate is their
-    difference plus the rounding of the sum (16 eps |value|)."""
-    previous = None
-    n = 16
-    while n <= n_max:
-        x, w = _legendre(n)
-        value = 0.5 * (b - a) * np.dot(w, f(0.5 * (b - a) * x + 0.5 * (a + b)))
-        if previous is not None and abs(value - previous) <= 4 * EPS * abs(value):
-            return float(value), abs(value - previous) + 16 * EPS * abs(value)
-        previous, n = value, 2 * n
-    raise ArithmeticError("quadrature did not converge: the arc passes too close to a rest point")
+def _gauss(f, a, b, depth=0):
+    """(integral over [a, b], error bound) of an analytic integrand; f(x) returns the values and a
+    bound on their rounding errors. Gauss-Legendre with 32 and 64 nodes, accepted when they agree
+    to 1e-11 of int |f| (the 64-node truncation error is then of the order of the square of that,
+    far below rounding) or to twice the rounding bound, else the interval is halved; the error
+    bound is the 32-64 difference squared over int |f|, plus the integrated rounding bound, plus
+    4 eps int |f| for the sum."""
+    values = []
+    for x, w in _NODES.values():
+        y, dy = f(0.5 * (b - a) * x + 0.5 * (a + b))
+        h = 0.5 * abs(b - a)
+        values.append((math.copysign(h, b - a) * np.dot(w, y), h * np.dot(w, np.abs(y)), h * np.dot(w, dy)))
+    (coarse, _, _), (value, size, rounding) = values
+    if abs(value - coarse) <= max(1e-11 * size, 2 * rounding):
+        return float(value), float((value - coarse) ** 2 / size + rounding + 4 * EPS * size)
+    if depth == 40:
+        raise ArithmeticError("quadrature did not converge: the arc passes too close to a rest point")
+    m = 0.5 * (a + b)
+    (v1, e1), (v2, e2) = _gauss(f, a, m, depth + 1), _gauss(f, m, b, depth + 1)
+    return v1 + v2, e1 + e2
 
 
 def _q(a, d, u, kappa):
@@ -65,13 +70,15 @@ def _q(a, d, u, kappa):
 def _half(a, w2, length, u, kappa):
     """Time from a (where omega^2 = w2) to the midpoint a + length/2 of an arc of constant u:
     with theta = a + length*s^2, s = sin(phi/2), phi in [0, pi/2],
-        t = int_0^{pi/2} |length| cos(phi/2) / sqrt(w2/s^2 + 2*length*q_a(theta)) dphi."""
+        t = int_0^{pi/2} |length| cos(phi/2) / sqrt(w2/s^2 + 2*length*q_a(theta)) dphi.
+    The rounding of the radicand r is a few eps times the size of its terms, |r| + 4|length|."""
     def integrand(phi):
         s, c = np.sin(0.5 * phi), np.cos(0.5 * phi)
         r = w2 / s**2 + 2 * length * _q(a, length * s**2, u, kappa)
         if np.any(r <= 0):
             raise ValueError("the arc comes to rest before it reaches theta")
-        return abs(length) * c / np.sqrt(r)
+        y = abs(length) * c / np.sqrt(r)
+        return y, 4 * EPS * y * (w2 / s**2 + 2 * abs(length) * (kappa * abs(u) + 1)) / r
     return _gauss(integrand, 0.0, 0.5 * math.pi)
 
 
@@ -186,5 +193,317 @@ def one_switch(kind, kappa):
     omega1 = math.sqrt(kappa * math.pi - 2 * math.sin(1 / kappa))
     up, down = arc(+1, 0.0, 0.0, 0.0, kappa, theta1), arc(-1, math.pi, 0.0, 0.0, kappa, theta1)
     bb = BangBang("swing-up", kappa, _KINDS["swing-up"][0], _KINDS["swing-up"][1], +1, (up.t,),
-                  ((theta1, omega1),), up.t + down.t, error=up.error + down.error + 8 * EPS * omega1)
+                  ((theta1, omega1),), up.t + down.t, error=float(up.error + down.error + 8 * EPS * omega1))
     return bb if kind == "swing-up" else _reversed(bb)
+
+
+# --- the two-switch swing-up (Finch 2015, Addendum; Reshmin and Chernousko 2014) -----------------
+
+def xi(rho, kappa):
+    """xi(rho) = rho/2 + (cos(rho) - 1)/(2 kappa): where the u = -1 arc from (0, 0),
+    omega^2 = 2[cos(theta) - 1 - kappa*theta], meets the u = +1 arc through (rho, 0)."""
+    return rho / 2 + (math.cos(rho) - 1) / (2 * kappa)
+
+
+def eta(rho, kappa):
+    """eta(rho) = xi(rho) + pi/2 + 1/kappa: where the u = +1 arc through (rho, 0) meets the u = -1
+    arc into (pi, 0), omega^2 = 2[cos(theta) + 1 + kappa*(pi - theta)]."""
+    return xi(rho, kappa) + math.pi / 2 + 1 / kappa
+
+
+def F(u, rho, kappa):
+    """F(u, rho) = sqrt(2 kappa (u - rho) + 2[cos(u) - cos(rho)]) = |omega| on the u = +1 arc through
+    (rho, 0). The paper prints sqrt(-2 kappa (u - rho) - 2[cos(u) - cos(rho)]), whose radicand is
+    -omega^2 < 0 on the arc (see reproduce(), key two_switch_half_rho)."""
+    d = u - rho
+    return math.sqrt(2 * d * _q(rho, d, +1, kappa))
+
+
+def three_arc_time(rho, kappa):
+    """Total time of u = -1, +1, -1 from (0, 0) to (pi, 0) whose middle arc turns at (rho, 0):
+    T(rho) = T_-(0, 0, 0, kappa; xi) + T_+(rho, 0, 0, kappa; xi) + T_+(rho, 0, 0, kappa; eta)
+             + T_-(pi, 0, 0, kappa; eta)   (the last by reversibility: the arc into (pi, 0))."""
+    x, e = xi(rho, kappa), eta(rho, kappa)
+    return (arc(-1, 0.0, 0.0, 0.0, kappa, x).t + arc(+1, rho, 0.0, 0.0, kappa, x).t
+            + arc(+1, rho, 0.0, 0.0, kappa, e).t + arc(-1, math.pi, 0.0, 0.0, kappa, e).t)
+
+
+def _stationarity_term(rho, x, kappa):
+    """d/drho of T_+(rho, 0, 0, kappa; x) at fixed x > rho, with F = F(., rho):
+        -1/F(x) + int_rho^x (sin(u) - sin(rho)) / F(u)^3 du;
+    with u = rho + L sigma^2, L = x - rho, d = u - rho, F^2 = 2 d q_rho(u), the integral is
+        int_0^1 sqrt(L/2) cos(rho + d/2) sinc(d/2) / q_rho(u)^(3/2) dsigma   (no singularity)."""
+    length = x - rho
+
+    def integrand(sigma):
+        d = length * sigma**2
+        q = _q(rho, d, +1, kappa)
+        if np.any(q <= 0):
+            raise ValueError("the middle arc comes to rest before it reaches x")
+        y = math.sqrt(length / 2) * np.cos(rho + d / 2) * np.sinc(d / (2 * np.pi)) / q**1.5
+        return y, 8 * EPS * np.abs(y) * (kappa + 1) / q
+    integral, error = _gauss(integrand, 0.0, 1.0)
+    return integral - 1 / F(x, rho, kappa), error + 4 * EPS / F(x, rho, kappa)
+
+
+def stationarity(rho, kappa):
+    """dT/drho of three_arc_time (the terms in d xi/d rho and d eta/d rho cancel, since the arcs
+    meeting at xi and at eta have equal |omega| there):
+        dT/drho = -1/F(xi) - 1/F(eta) + int_rho^xi (sin u - sin rho)/F^3 du
+                  + int_rho^eta (sin v - sin rho)/F^3 dv.
+    The paper prints 1/F(xi) + 1/F(eta) + int_xi^rho (sin rho - sin u)/F^3 du + (same at eta) = 0
+    with its imaginary F = i|omega|: that is -i times this one, so both have the same root rho.
+    Returns (value, error bound)."""
+    (a, ea), (b, eb) = (_stationarity_term(rho, x, kappa) for x in (xi(rho, kappa), eta(rho, kappa)))
+    return a + b, ea + eb
+
+
+def _feasible_rhos(kappa):
+    """The open interval of turning points rho < 0 for which u = -1, +1, -1 joins (0, 0) to (pi, 0):
+    the first arc has not come to rest before rho (cos(rho) - 1 - kappa*rho > 0, so xi > rho),
+    and the middle arc from (rho, 0) passes the minimum of cos(theta) + kappa*theta at
+    pi - arcsin(kappa) (cos(rho) + kappa*rho < kappa*(pi - arcsin(kappa)) - sqrt(1 - kappa^2)).
+    For kappa > one_switch_bound() the first arc never rests in (-pi, 0) and the interval is
+    (arcsin(kappa) - pi, 0). None if empty."""
+    rho_min = math.asin(kappa) - math.pi
+    if kappa > one_switch_bound():
+        return rho_min, 0.0
+    lo = brentq(lambda r: math.cos(r) - 1 - kappa * r, rho_min, -kappa, xtol=1e-17, rtol=4 * EPS)
+    hump = kappa * (math.pi - math.asin(kappa)) - math.sqrt(1 - kappa * kappa)
+    if math.cos(lo) + kappa * lo >= hump:
+        return None
+    return lo, brentq(lambda r: math.cos(r) + kappa * r - hump, lo, 0.0, xtol=1e-17, rtol=4 * EPS)
+
+
+def _steepest(kappa):
+    """(rho, dT/drho) at the maximum of dT/drho over _feasible_rhos (None if empty); dT/drho -> -inf
+    at the left end, and rises to +inf at the right end for kappa < one_switch_bound(), or falls
+    back to -inf at rho = 0 above it. Located by bounded Brent to 1e-10 in rho."""
+    interval = _feasible_rhos(kappa)
+    if interval is None:
+        return None
+    peak = minimize_scalar(lambda r: -stationarity(r, kappa)[0], bounds=interval, method="bounded",
+                           options={"xatol": 1e-10})
+    return peak.x, -peak.fun
+
+
+def _two_switch_at(rho, kappa):
+    """The u = -1, +1, -1 swing-up whose middle arc turns at (rho, 0): switches at
+    (xi, -F(xi, rho)) at t1 = T_-(0, 0, 0, kappa; xi) and (eta, F(eta, rho)) at
+    t2 = t1 + T_+(rho, 0, 0, kappa; xi) + T_+(rho, 0, 0, kappa; eta), arrival T = t2 + T_-(pi, 0, 0, kappa; eta)."""
+    x, e = xi(rho, kappa), eta(rho, kappa)
+    arcs = (arc(-1, 0.0, 0.0, 0.0, kappa, x), arc(+1, rho, 0.0, 0.0, kappa, x),
+            arc(+1, rho, 0.0, 0.0, kappa, e), arc(-1, math.pi, 0.0, 0.0, kappa, e))
+    t1 = arcs[0].t
+    t2 = t1 + arcs[1].t + arcs[2].t
+    return BangBang("swing-up", kappa, _KINDS["swing-up"][0], _KINDS["swing-up"][1], -1, (t1, t2),
+                    ((x, -F(x, rho, kappa)), (e, F(e, rho, kappa))), t2 + arcs[3].t, rho,
+                    sum(a.error for a in arcs))
+
+
+def two_switch(kind, kappa):
+    """The two-switch transfer (Finch 2015, Figure 2 and Addendum). Swing-up (0, 0) -> (pi, 0):
+    u = -1 to (xi, -F(xi, rho)), u = +1 through its turning point (rho, 0) to (eta, F(eta, rho)),
+    u = -1 into (pi, 0), where rho is the local minimum of three_arc_time, the root of
+    stationarity(rho) = dT/drho = 0 between the left end of _feasible_rhos (where dT/drho -> -inf
+    as xi -> rho) and the maximum of dT/drho.
+    Damping (pi, 0) -> (0, 0) is its time reversal (same u sequence). Exists for
+    two_switch_range()[0] < kappa < two_switch_range()[1] (0.42227... < kappa < 0.81534...); else ValueError.
+    error bounds the quadratures and the propagated error of rho (|dT/drho error| / T'')."""
+    _check_kind(kind)
+    peak = _steepest(kappa)
+    if peak is None or peak[1] <= 0:
+        low, high = two_switch_range()
+        raise ValueError(f"no two-switch {kind} for kappa = {kappa}: three_arc_time has no local minimum "
+                         f"(it has one for {low!r} < kappa < {high!r})")
+    lo, rho_peak = _feasible_rhos(kappa)[0], peak[0]
+    a = next(a for a in lo + (rho_peak - lo) * 0.1 ** np.arange(1, 17) if stationarity(a, kappa)[0] < 0)
+    rho = brentq(lambda r: stationarity(r, kappa)[0], a, rho_peak, xtol=1e-17, rtol=4 * EPS)
+    slope_error = stationarity(rho, kappa)[1]
+    h = 0.5 * min(1e-4, rho - lo, rho_peak - rho)
+    curvature = (stationarity(rho + h, kappa)[0] - stationarity(rho - h, kappa)[0]) / (2 * h)
+    drho = 2 * slope_error / curvature + 8 * EPS * abs(rho)
+    bb, moved = _two_switch_at(rho, kappa), _two_switch_at(rho + drho, kappa)
+    shift = max(abs(a - b) for a, b in zip(_flat(bb), _flat(moved)))
+    bb = replace(bb, error=bb.error + shift)
+    return bb if kind == "swing-up" else _reversed(bb)
+
+
+def _flat(bb):
+    """Switch times, switch states and T of bb, as one flat tuple."""
+    return (*bb.switch_times, *(v for state in bb.switch_states for v in state), bb.T)
+
+
+@lru_cache(maxsize=None)
+def two_switch_range():
+    """(kappa_lo, kappa_hi) = (0.4222730599..., 0.8153495018...), the kappa for which three_arc_time has a
+    local minimum. Below kappa_lo the feasible interval of rho is empty: the middle arc started at
+    rest where the first arc comes to rest, cos(rho) - 1 = kappa*rho, no longer passes
+    pi - arcsin(kappa) (one more swing is needed). At kappa_hi the minimum merges with a local
+    maximum (a fold): max over rho of dT/drho = 0; above it only the one-switch transfer (rho = 0)
+    remains. Both are roots found by brentq; kappa_hi's inner maximum is located to 1e-10 in rho,
+    so its value is exact to rounding and kappa_hi to ~1e-13."""
+    def gap(kappa):
+        lo = brentq(lambda r: math.cos(r) - 1 - kappa * r, math.asin(kappa) - math.pi, -kappa, xtol=1e-17)
+        return math.cos(lo) + kappa * lo - kappa * (math.pi - math.asin(kappa)) + math.sqrt(1 - kappa * kappa)
+
+    return (brentq(gap, 0.3, 0.6, xtol=1e-16, rtol=4 * EPS),
+            brentq(lambda k: _steepest(k)[1], 0.78, 0.9, xtol=1e-14, rtol=4 * EPS))
+
+
+# --- solved results against the formulas ---------------------------------------------------------
+
+def formula_for(problem, branch, n_switches, first_u):
+    """The analytic transfer of `problem` (an ocp.problems.Problem) to target branch `branch` with
+    the given structure, in the problem's own frame, or None where no formula applies. Formulas:
+    one_switch and two_switch, from (0, 0) to (pi, 0) and from (pi, 0) to (0, 0), carried to
+    x0 = (theta0, 0) and target theta_T by the symmetry theta = c + sigma*theta', omega =
+    sigma*omega', u = sigma*u' with sigma = +-1 and c a multiple of 2*pi (so |theta_T - theta0| = pi,
+    theta0 = 0 mod 2*pi for swing-up and pi mod 2*pi for damping, e.g. swing-up to -pi, damping from
+    -pi); one switch needs kappa > one_switch_bound(), two switches (u' = -1, +1, -1)
+    two_switch_range()."""
+    start, end = (v[0] for v in _KINDS[problem.kind])
+    theta0, omega0 = problem.x0
+    sigma = (problem.target(branch)[0] - theta0) / (end - start)
+    c = theta0 - sigma * start
+    if abs(omega0) > 1e-12 or abs(abs(sigma) - 1) > 1e-12 or abs(c - 2 * math.pi * round(c / (2 * math.pi))) > 1e-9:
+        return None
+    sigma, c = round(sigma), 2 * math.pi * round(c / (2 * math.pi))
+    canonical_u = sigma * first_u
+    try:
+        if n_switches == 1 and canonical_u == (1 if problem.kind == "swing-up" else -1):
+            bb = one_switch(problem.kind, problem.kappa)
+        elif n_switches == 2 and canonical_u == -1:
+            bb = two_switch(problem.kind, problem.kappa)
+        else:
+            return None
+    except ValueError:
+        return None
+    move = lambda state: (c + sigma * state[0] + 0.0, sigma * state[1] + 0.0)  # + 0.0: no -0.0
+    return replace(bb, x0=move(bb.x0), target=move(bb.target), first_u=sigma * bb.first_u,
+                   switch_states=tuple(move(x) for x in bb.switch_states),
+                   rho=None if bb.rho is None else c + sigma * bb.rho)
+
+
+@dataclass(frozen=True)
+class Crosscheck:
+    """A solved result against the formula for its structure: which formula, the analytic transfer
+    (in the result's frame), the deviations result - analytic of the switch times, the switch
+    states (theta, omega) and T, and the largest of them in absolute value."""
+
+    formula: str
+    analytic: BangBang
+    switch_times: tuple
+    switch_states: tuple
+    T: float
+    max_deviation: float
+
+
+def crosscheck(result):
+    """Crosscheck of a solved result (attributes problem, branch, n_switches, first_u, switch_times,
+    switch_states, T) against formula_for its problem, branch and structure; None where none applies."""
+    bb = formula_for(result.problem, result.branch, result.n_switches, result.first_u)
+    if bb is None:
+        return None
+    times = tuple(t - a for t, a in zip(result.switch_times, bb.switch_times))
+    states = tuple((x[0] - a[0], x[1] - a[1]) for x, a in zip(result.switch_states, bb.switch_states))
+    T = result.T - bb.T
+    name = f"{'one' if bb.n_switches == 1 else 'two'}-switch {bb.kind} (Finch 2015), kappa = {bb.kappa}"
+    deviation = max(abs(v) for v in (*times, *(v for x in states for v in x), T))
+    return Crosscheck(name, bb, times, states, T, deviation)
+
+
+# --- the paper's printed values --------------------------------------------------------------------
+
+def gibbs_constant():
+    """G = int_0^pi sin(z)/z dz = Si(pi) = sum_j (-1)^j pi^(2j+1) / ((2j+1)(2j+1)!) = 1.8519370519...
+    (scipy.special.sici); the damping bifurcation values behave like G/(2n) (Ovseevich 2014)."""
+    return float(sici(math.pi)[0])
+
+
+def shooting_time(kappa, t1_bounds):
+    """Independent of every quadrature here: the least time of u = -1, +1, -1 from (0, 0) to
+    (pi, 0), by DOP853 (rtol = atol = 1e-13) with event detection: u = -1 for t1, u = +1 until
+    omega^2 = 2[cos(theta) + 1 + kappa*(pi - theta)] (the arc into (pi, 0)), u = -1 until omega = 0;
+    T minimised over t1 in t1_bounds (bounded Brent, 1e-6 in t1: T is stationary, so ~1e-11 in T).
+    Returns (T, t1, final state)."""
+    from scipy.integrate import solve_ivp
+
+    def flow(u, t0, x0, event):
+        event.terminal = True
+        sol = solve_ivp(lambda t, x: (x[1], kappa * u - math.sin(x[0])), (t0, t0 + 100.0), x0,
+                        method="DOP853", rtol=1e-13, atol=1e-13, events=event)
+        return sol.t_events[0][0], sol.y_events[0][0]
+
+    def land(t1):
+        t, x = flow(-1, 0.0, (0.0, 0.0), lambda t, x: t - t1)
+        meet = lambda t, x: x[1] ** 2 - 2 * (math.cos(x[0]) + 1 + kappa * (math.pi - x[0])) if x[1] > 0 else -1.0
+        t, x = flow(+1, t, x, meet)
+        return flow(-1, t, x, lambda t, x: x[1])
+
+    best = minimize_scalar(lambda t1: land(t1)[0], bounds=t1_bounds, method="bounded", options={"xatol": 1e-6})
+    T, x = land(best.x)
+    return T, best.x, x
+
+
+def reproduce():
+    """Every value of reference/finch2015.toml the suite computes: key -> Reproduction."""
+    out = {}
+
+    def put(key, value, accuracy, how, evidence=""):
+        out[key] = Reproduction(float(value), float(accuracy), how, evidence)
+
+    swing = free_swing(math.pi / 2)
+    put("free_swing_time", swing.t, swing.error, "K(m = 1/2) = Gamma(1/4)^2/(4 sqrt(pi)), scipy.special.ellipk")
+    put("free_swing_velocity", swing.omega, 4 * EPS, "-2 sin(pi/4) = -sqrt(2)")
+    down, up = arc(-1, math.pi / 2, 0.0, 0.0, 1.0, 0.0), arc(+1, 0.0, 0.0, 0.0, 1.0, math.pi / 2)
+    put("t_minus_half_pi_to_0", down.t, down.error, "arc(-1, pi/2, 0, 0, 1, 0): quadrature, rest end removed")
+    put("t_plus_0_to_half_pi", up.t, up.error, "arc(+1, 0, 0, 0, 1, pi/2): quadrature, rest end removed")
+    put("omega_minus", down.omega, 8 * EPS, "energy integral: -sqrt(2 + pi) (no ODE solver needed)")
+    put("omega_plus", up.omega, 8 * EPS, "energy integral: sqrt(pi - 2) (no ODE solver needed)")
+
+    k1 = one_switch_bound()
+    put("one_switch_kappa_min", k1, 1e-15, "brentq root of 1 - pi k + sqrt(1 - k^2) + k arcsin k")
+    put("one_switch_phi_min", math.pi - math.asin(k1), 2e-15, "pi - arcsin(kappa_1)")
+    swing_up, damping = one_switch("swing-up", 1.0), one_switch("damping", 1.0)
+    how = "one_switch('{}', {}): switch at (pi/2 + 1/kappa, +-sqrt(kappa pi - 2 sin(1/kappa))), arc quadratures"
+    put("figure1_switch_theta", swing_up.switch_states[0][0], 4 * EPS, "pi/2 + 1/kappa at kappa = 1")
+    put("figure1_switch_omega", swing_up.switch_states[0][1], 8 * EPS, "sqrt(pi - 2 sin 1)")
+    put("one_switch_t1_kappa1", swing_up.switch_times[0], swing_up.error, how.format("swing-up", 1))
+    put("one_switch_tinf_kappa1", swing_up.T, swing_up.error, how.format("swing-up", 1))
+    put("damping_t1_kappa1", damping.switch_times[0], damping.error, how.format("damping", 1))
+    put("damping_tinf_kappa1", damping.T, damping.error, how.format("damping", 1))
+    one = one_switch("swing-up", 0.75)
+    put("one_switch_tinf_kappa3_4", one.T, one.error, how.format("swing-up", 0.75))
+
+    half, three_quarters = two_switch("swing-up", 0.5), two_switch("swing-up", 0.75)
+    rho, (x1, w1), (x2, w2) = half.rho, *half.switch_states
+    flipped = [_stationarity_term(half.rho, x, 0.5)[0] + 2 / F(x, half.rho, 0.5) for x in (x1, x2)]
+    erratum = (f"the printed F(u, rho) = sqrt(-2 kappa (u - rho) - 2[cos u - cos rho]) is imaginary on the middle arc: "
+               f"at kappa = 1/2, rho = {rho:.7f} its radicand is {-w1 ** 2:.6f} = -omega1^2 at u = xi and "
+               f"{-w2 ** 2:.6f} = -omega2^2 at u = eta. With the real F = |omega| = sqrt(+2 kappa (u - rho) + "
+               f"2[cos u - cos rho]) the numerator must be sin u - sin rho (stationarity, checked against finite "
+               f"differences of the three-arc time); with the printed numerator the left side is "
+               f"{sum(flipped):.6f}, not 0, at this rho. Read with complex F = i|omega| the printed equation "
+               f"is -i times the right one, so the printed rho values stand")
+    how2 = "two_switch('swing-up', {}): root of dT/drho (corrected equation), arc quadratures"
+    put("two_switch_half_rho", rho, half.error, how2.format(0.5), erratum)
+    for key, bb, k in (("half", half, 0.5), ("3_4", three_quarters, 0.75)):
+        if key == "3_4":
+            put("two_switch_3_4_rho", bb.rho, bb.error, how2.format(k))
+        put(f"two_switch_{key}_theta1", bb.switch_states[0][0], bb.error, "xi(rho) = rho/2 + (cos rho - 1)/(2 kappa)")
+        put(f"two_switch_{key}_theta2", bb.switch_states[1][0], bb.error, "eta(rho) = xi(rho) + pi/2 + 1/kappa")
+    for i, name in ((0, "switch1"), (1, "switch2")):
+        put(f"figure2_{name}_theta", half.switch_states[i][0], half.error, how2.format(0.5))
+        put(f"figure2_{name}_omega", half.switch_states[i][1], half.error, how2.format(0.5) + ": -+F(xi or eta, rho)")
+    T, t1, x = shooting_time(0.75, (0.9, 1.1))
+    put("two_switch_tinf_kappa3_4", three_quarters.T, three_quarters.error, how2.format(0.75),
+        f"independently, DOP853 shooting (u = -1 for t1, u = +1 to the arc into (pi, 0), u = -1 to rest) "
+        f"minimised over t1 gives T = {T:.11f} at t1 = {t1:.7f}, landing at ({x[0]:.12f}, {x[1]:.1e}); "
+        f"5.8397 is not reached by any two-switch transfer (likely a misprint of 5.8399)")
+    gain = 100 * (one.T - three_quarters.T) / three_quarters.T
+    put("two_switch_gain_kappa3_4", gain, 1e-11, "100 (t_inf,1 - t_inf,2)/t_inf,2 from the two transfers, in %")
+    G = gibbs_constant()
+    put("gibbs_G", G, 4 * EPS * G, "Si(pi), scipy.special.sici")
+    put("gibbs_G_half", G / 2, 2 * EPS * G, "Si(pi)/2")
+    return out

@@ -12,8 +12,10 @@ for any point (a, omega_a) of the arc; the product form has no cancellation as t
 Every arc time is a quadrature of dt = |dtheta|/sqrt(W); where the pendulum is at rest (W = 0 at an
 end) the integrand has an inverse-square-root singularity, removed analytically by the substitution
 theta = a + L*sin^2(phi/2) (L the arc length), under which the integrand is analytic and
-Gauss-Legendre converges exponentially. Accuracy: relative error of every time below 1e-15 against
-mpmath at 30 digits (tests/test_analytic.py).
+Gauss-Legendre converges exponentially. Accuracy: relative error of the times below 1e-15 against
+mpmath at 30 digits (tests/test_analytic.py; observed <= 2e-16); every time comes with an error
+bound, which grows where an arc nearly comes to rest inside (kappa -> 0.7246... for one switch),
+because W itself then suffers cancellation.
 
 The motion is reversible (t -> -t, omega -> -omega, same u) and mirror-symmetric (theta -> 2*pi*k -
 theta, omega -> -omega, u -> -u): damping from (pi, 0) to (0, 0) is swing-up run backwards, and the
@@ -26,6 +28,7 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
+from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 from scipy.special import ellipk, sici
 
@@ -71,7 +74,8 @@ def _half(a, w2, length, u, kappa):
     """Time from a (where omega^2 = w2) to the midpoint a + length/2 of an arc of constant u:
     with theta = a + length*s^2, s = sin(phi/2), phi in [0, pi/2],
         t = int_0^{pi/2} |length| cos(phi/2) / sqrt(w2/s^2 + 2*length*q_a(theta)) dphi.
-    The rounding of the radicand r is a few eps times the size of its terms, |r| + 4|length|."""
+    Returns (t, error bound); the rounding of the integrand is bounded by 4 eps times the size of
+    the radicand's terms, w2/s^2 + 2|length|(kappa|u| + 1), over the radicand."""
     def integrand(phi):
         s, c = np.sin(0.5 * phi), np.cos(0.5 * phi)
         r = w2 / s**2 + 2 * length * _q(a, length * s**2, u, kappa)
@@ -427,8 +431,6 @@ def shooting_time(kappa, t1_bounds):
     omega^2 = 2[cos(theta) + 1 + kappa*(pi - theta)] (the arc into (pi, 0)), u = -1 until omega = 0;
     T minimised over t1 in t1_bounds (bounded Brent, 1e-6 in t1: T is stationary, so ~1e-11 in T).
     Returns (T, t1, final state)."""
-    from scipy.integrate import solve_ivp
-
     def flow(u, t0, x0, event):
         event.terminal = True
         sol = solve_ivp(lambda t, x: (x[1], kappa * u - math.sin(x[0])), (t0, t0 + 100.0), x0,
@@ -478,7 +480,8 @@ def reproduce():
 
     half, three_quarters = two_switch("swing-up", 0.5), two_switch("swing-up", 0.75)
     rho, (x1, w1), (x2, w2) = half.rho, *half.switch_states
-    flipped = [_stationarity_term(half.rho, x, 0.5)[0] + 2 / F(x, half.rho, 0.5) for x in (x1, x2)]
+    # the printed numerator with the real F: 1/F(x) + int_rho^x (sin u - sin rho)/F^3 du at x = xi, eta
+    flipped = [_stationarity_term(rho, x, 0.5)[0] + 2 / F(x, rho, 0.5) for x in (x1, x2)]
     erratum = (f"the printed F(u, rho) = sqrt(-2 kappa (u - rho) - 2[cos u - cos rho]) is imaginary on the middle arc: "
                f"at kappa = 1/2, rho = {rho:.7f} its radicand is {-w1 ** 2:.6f} = -omega1^2 at u = xi and "
                f"{-w2 ** 2:.6f} = -omega2^2 at u = eta. With the real F = |omega| = sqrt(+2 kappa (u - rho) + "
@@ -488,9 +491,8 @@ def reproduce():
                f"is -i times the right one, so the printed rho values stand")
     how2 = "two_switch('swing-up', {}): root of dT/drho (corrected equation), arc quadratures"
     put("two_switch_half_rho", rho, half.error, how2.format(0.5), erratum)
-    for key, bb, k in (("half", half, 0.5), ("3_4", three_quarters, 0.75)):
-        if key == "3_4":
-            put("two_switch_3_4_rho", bb.rho, bb.error, how2.format(k))
+    put("two_switch_3_4_rho", three_quarters.rho, three_quarters.error, how2.format(0.75))
+    for key, bb in (("half", half), ("3_4", three_quarters)):
         put(f"two_switch_{key}_theta1", bb.switch_states[0][0], bb.error, "xi(rho) = rho/2 + (cos rho - 1)/(2 kappa)")
         put(f"two_switch_{key}_theta2", bb.switch_states[1][0], bb.error, "eta(rho) = xi(rho) + pi/2 + 1/kappa")
     for i, name in ((0, "switch1"), (1, "switch2")):
@@ -500,7 +502,7 @@ def reproduce():
     put("two_switch_tinf_kappa3_4", three_quarters.T, three_quarters.error, how2.format(0.75),
         f"independently, DOP853 shooting (u = -1 for t1, u = +1 to the arc into (pi, 0), u = -1 to rest) "
         f"minimised over t1 gives T = {T:.11f} at t1 = {t1:.7f}, landing at ({x[0]:.12f}, {x[1]:.1e}); "
-        f"5.8397 is not reached by any two-switch transfer (likely a misprint of 5.8399)")
+        f"no two-switch transfer arrives by 5.8397 (likely a misprint of 5.8399)")
     gain = 100 * (one.T - three_quarters.T) / three_quarters.T
     put("two_switch_gain_kappa3_4", gain, 1e-11, "100 (t_inf,1 - t_inf,2)/t_inf,2 from the two transfers, in %")
     G = gibbs_constant()

@@ -471,12 +471,12 @@ def reproduce():
     how = "one_switch('{}', {}): switch at (pi/2 + 1/kappa, +-sqrt(kappa pi - 2 sin(1/kappa))), arc quadratures"
     put("figure1_switch_theta", swing_up.switch_states[0][0], 4 * EPS, "pi/2 + 1/kappa at kappa = 1")
     put("figure1_switch_omega", swing_up.switch_states[0][1], 8 * EPS, "sqrt(pi - 2 sin 1)")
-    put("one_switch_t1_kappa1", swing_up.switch_times[0], swing_up.error, how.format("swing-up", 1))
-    put("one_switch_tinf_kappa1", swing_up.T, swing_up.error, how.format("swing-up", 1))
-    put("damping_t1_kappa1", damping.switch_times[0], damping.error, how.format("damping", 1))
-    put("damping_tinf_kappa1", damping.T, damping.error, how.format("damping", 1))
+    put("t1_swing_up_kappa_1", swing_up.switch_times[0], swing_up.error, how.format("swing-up", 1))
+    put("t_inf_swing_up_kappa_1", swing_up.T, swing_up.error, how.format("swing-up", 1))
+    put("t1_damping_kappa_1", damping.switch_times[0], damping.error, how.format("damping", 1))
+    put("t_inf_damping_kappa_1", damping.T, damping.error, how.format("damping", 1))
     one = one_switch("swing-up", 0.75)
-    put("one_switch_tinf_kappa3_4", one.T, one.error, how.format("swing-up", 0.75))
+    put("t_inf_one_switch_kappa_3_4", one.T, one.error, how.format("swing-up", 0.75))
 
     half, three_quarters = two_switch("swing-up", 0.5), two_switch("swing-up", 0.75)
     rho, (x1, w1), (x2, w2) = half.rho, *half.switch_states
@@ -499,12 +499,12 @@ def reproduce():
         put(f"figure2_{name}_theta", half.switch_states[i][0], half.error, how2.format(0.5))
         put(f"figure2_{name}_omega", half.switch_states[i][1], half.error, how2.format(0.5) + ": -+F(xi or eta, rho)")
     T, t1, x = shooting_time(0.75, (0.9, 1.1))
-    put("two_switch_tinf_kappa3_4", three_quarters.T, three_quarters.error, how2.format(0.75),
+    put("t_inf_two_switch_kappa_3_4", three_quarters.T, three_quarters.error, how2.format(0.75),
         f"independently, DOP853 shooting (u = -1 for t1, u = +1 to the arc into (pi, 0), u = -1 to rest) "
         f"minimised over t1 gives T = {T:.11f} at t1 = {t1:.7f}, landing at ({x[0]:.12f}, {x[1]:.1e}); "
         f"no two-switch transfer arrives by 5.8397 (likely a misprint of 5.8399)")
     gain = 100 * (one.T - three_quarters.T) / three_quarters.T
-    put("two_switch_gain_kappa3_4", gain, 1e-11, "100 (t_inf,1 - t_inf,2)/t_inf,2 from the two transfers, in %")
+    put("two_switch_gain_kappa_3_4", gain, 1e-11, "100 (t_inf,1 - t_inf,2)/t_inf,2 from the two transfers, in %")
     G = gibbs_constant()
     put("gibbs_G", G, 4 * EPS * G, "Si(pi), scipy.special.sici")
     put("gibbs_G_half", G / 2, 2 * EPS * G, "Si(pi)/2")

@@ -47,7 +47,7 @@ def test_every_printed_value_is_reproduced_or_explained():
     table = verify.rows("finch2015")
     assert not [r.key for r in table if r.verdict == "disagrees"]
     wrong = {r.key for r in table if r.verdict == "the paper is wrong"}
-    assert wrong == {"two_switch_tinf_kappa3_4"}  # 5.8397 printed, 5.83992946706 computed
+    assert wrong == {"t_inf_two_switch_kappa_3_4"}  # 5.8397 printed, 5.83992946706 computed
     for r in table:
         if r.computed is not None:
             assert r.accuracy < 1e-12 * max(1.0, abs(r.computed))
@@ -169,14 +169,14 @@ def test_two_switch_time_against_shooting():
     T, _, x = analytic.shooting_time(0.75, (0.9, 1.1))
     assert np.allclose(x, (math.pi, 0.0), atol=1e-9)
     assert analytic.two_switch("swing-up", 0.75).T == pytest.approx(T, abs=1e-9)
-    assert T - printed("two_switch_tinf_kappa3_4") > 2e-4
+    assert T - printed("t_inf_two_switch_kappa_3_4") > 2e-4
 
 
 def test_two_switch_claims_of_the_text():
     """At kappa = 3/4 two switches beat one (printed gain ~12.5 %); at kappa = 1/2 the middle arc
     pushes omega above 1.3 (its maximum, at theta = arcsin(kappa), is F(arcsin(kappa), rho))."""
     one, two = analytic.one_switch("swing-up", 0.75), analytic.two_switch("swing-up", 0.75)
-    assert 100 * (one.T - two.T) / two.T == pytest.approx(printed("two_switch_gain_kappa3_4"), abs=0.05)
+    assert 100 * (one.T - two.T) / two.T == pytest.approx(printed("two_switch_gain_kappa_3_4"), abs=0.05)
     half = analytic.two_switch("swing-up", 0.5)
     assert analytic.F(math.asin(0.5), half.rho, 0.5) > 1.3
 

@@ -2,7 +2,7 @@
 
 References: the switch time and T of the one-switch solutions by 30-digit mpmath quadrature of the
 energy integrals (Finch 2015, the T+/T- definitions: an independent computation, written out here);
-the two-switch solutions by `ocp.analytic.two_switch_swing_up` (Finch's addendum), which its own
+the two-switch solutions by `ocp.analytic.two_switch` (Finch's addendum), which its own
 tests check against integrating the three arcs. The goal is 1e-10 relative (issue 5).
 """
 
@@ -62,7 +62,7 @@ def test_damping_is_the_time_reversed_swing_up():
 @pytest.mark.parametrize("kappa", [0.5, 0.75])
 def test_two_switch_swing_up_matches_the_addendum(kappa):
     sol = ocp.solve(ocp.swing_up(kappa))
-    ref = analytic.two_switch_swing_up(kappa)
+    ref = analytic.two_switch("swing-up", kappa)
     assert sol.arc_signs == (-1, 1, -1) and sol.refined_branch == 0
     assert sol.T == pytest.approx(ref.T, rel=REL)
     assert sol.switch_times == pytest.approx(list(ref.switch_times), rel=REL)

@@ -13,7 +13,8 @@ unknowns, the square system
     H(0) = 0                                (1)
 
 in (d, p(0)) (n + 2 unknowns) is solved by Newton's method, the state and costate integrated by
-CVODES at rtol = atol = TOL and differentiated by its forward sensitivities. Newton starts from the
+CVODES and differentiated by its forward sensitivities: iterations at rtol = atol = TOL_COARSE,
+then polished at TOL. Newton starts from the
 switching-time problem itself solved by IPOPT (d >= 0; RK4 with STEPS fixed steps per arc: a
 globalised, moderately accurate first stage) and from p(0) solving the conditions (linear in p(0))
 in least squares along those durations. The Lagrange multiplier of the end constraint is -p(T).
@@ -30,14 +31,16 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
+from . import model
 from .errors import last_line
 
 TOL = 1e-14
 TOL_CHECK = 1e-12
+TOL_COARSE = 1e-10
 STEPS = 50
 COLLAPSE = 1e-7
-MAX_STEPS = 20000          # CVODES steps per arc: far more than a feasible arc needs at TOL
-RESIDUAL_TOL = 1e-10  # the conditions hold to integrator noise (Newton stops at 1e-13 where it can)
+MAX_STEPS = 5000           # CVODES steps per arc: several times what a feasible arc needs at TOL
+RESIDUAL_TOL = 1e-10  # the conditions hold to integrator noise
 
 
 @dataclass(frozen=True)
@@ -112,13 +115,16 @@ def _newton(n, tol):
     if n == 1:
         conditions = ca.vertcat(y[0] - target[0], h0, v[n] * f0[1] - v[n + 1] * f0[0])
         residual = ca.Function("R", [v, par], [ca.vertcat(y[0:2] - target, h0)])
-        solver = ca.rootfinder("newton", "newton", ca.Function("C", [v, par], [conditions]),
-                               {"abstol": 1e-13, "abstolStep": 1e-15, "max_iter": 15, "error_on_fail": False})
+        solver = ca.rootfinder("newton", "newton", ca.Function("C", [v, par], [conditions]), _newton_options(tol))
         return solver, residual
     residual = ca.Function("R", [v, par], [ca.vertcat(y[0:2] - target, *at_switch, h0)])
-    solver = ca.rootfinder("newton", "newton", residual,
-                           {"abstol": 1e-13, "abstolStep": 1e-15, "max_iter": 15, "error_on_fail": False})
+    solver = ca.rootfinder("newton", "newton", residual, _newton_options(tol))
     return solver, residual
+
+
+def _newton_options(tol):
+    """Stop at 10 * tol: below that the residual is integrator noise."""
+    return {"abstol": 10 * tol, "abstolStep": 1e-15, "max_iter": 15, "error_on_fail": False}
 
 
 @lru_cache(maxsize=32)
@@ -181,6 +187,12 @@ def refine(x0, kappa, target, signs, durations):
     n = len(signs)
     x0 = np.asarray(x0, float)
     durations = np.asarray(durations, float)
+    if n == 1:
+        # one arc of u = s conserves omega^2/2 - cos(theta) - kappa*s*theta: x0 must share the target's value
+        gap = abs(model.arc_invariant(x0, signs[0], kappa) - model.arc_invariant(np.asarray(target), signs[0], kappa))
+        if gap > 1e-9:
+            return _failed(signs, durations, f"x0 is not on the u = {signs[0]:+d} arc into the target "
+                                             f"(arc invariants differ by {gap:.1e})", start)
     if n >= 2:
         durations, ok = switching_times(x0, kappa, target, signs, durations)
         if not ok:
@@ -188,8 +200,10 @@ def refine(x0, kappa, target, signs, durations):
         short = [i for i, d in enumerate(durations) if d < COLLAPSE * np.sum(durations)]
         if short:
             return _failed(signs, durations, "collapsed: zero-length arc " + ", ".join(str(i + 1) for i in short), start)
-    v, res, iterations, failure = _solve(n, TOL, np.concatenate([durations, costate_guess(x0, signs, durations, kappa)]),
-                                         np.concatenate([x0, [kappa], signs, target]))
+    par = np.concatenate([x0, [kappa], signs, target])
+    v = np.concatenate([durations, costate_guess(x0, signs, durations, kappa)])
+    coarse = _solve(n, TOL_COARSE, v, par)[0]                         # cheap iterations first,
+    v, res, iterations, failure = _solve(n, TOL, coarse if np.all(np.isfinite(coarse)) else v, par)  # then polish
     if failure:
         return _failed(signs, durations, failure, start)
     d = v[:n]

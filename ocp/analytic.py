@@ -452,8 +452,8 @@ def reproduce():
     """Every value of reference/finch2015.toml the suite computes: key -> Reproduction."""
     out = {}
 
-    def put(key, value, accuracy, how, evidence=""):
-        out[key] = Reproduction(float(value), float(accuracy), how, evidence)
+    def put(key, value, accuracy, how, evidence="", erratum=""):
+        out[key] = Reproduction(float(value), float(accuracy), how, evidence, erratum)
 
     swing = free_swing(math.pi / 2)
     put("free_swing_time", swing.t, swing.error, "K(m = 1/2) = Gamma(1/4)^2/(4 sqrt(pi)), scipy.special.ellipk")
@@ -490,7 +490,7 @@ def reproduce():
                f"{sum(flipped):.6f}, not 0, at this rho. Read with complex F = i|omega| the printed equation "
                f"is -i times the right one, so the printed rho values stand")
     how2 = "two_switch('swing-up', {}): root of dT/drho (corrected equation), arc quadratures"
-    put("two_switch_half_rho", rho, half.error, how2.format(0.5), erratum)
+    put("two_switch_half_rho", rho, half.error, how2.format(0.5), erratum=erratum)
     put("two_switch_3_4_rho", three_quarters.rho, three_quarters.error, how2.format(0.75))
     for key, bb in (("half", half), ("3_4", three_quarters)):
         put(f"two_switch_{key}_theta1", bb.switch_states[0][0], bb.error, "xi(rho) = rho/2 + (cos rho - 1)/(2 kappa)")

@@ -28,13 +28,15 @@ REPRODUCERS = {
 @dataclass(frozen=True)
 class Reproduction:
     """The suite's value of a published quantity: `value`, a bound on its absolute error
-    (`accuracy`), how it was computed (`how`), and for a printed value that is wrong, the
-    independent computation that shows it (`evidence`)."""
+    (`accuracy`), how it was computed (`how`), for a printed value that is wrong the independent
+    computation that shows it (`evidence`), and for a printed formula that is wrong although the
+    values printed from it stand, what is wrong with it (`erratum`)."""
 
     value: float
     accuracy: float
     how: str
     evidence: str = ""
+    erratum: str = ""
 
 
 @dataclass(frozen=True)
@@ -51,6 +53,7 @@ class Row:
     verdict: str
     how: str
     evidence: str
+    erratum: str = ""
 
 
 def _digits(d, q):
@@ -102,7 +105,7 @@ def rows(paper=None):
             if verdict == "disagrees" and rep.evidence:
                 verdict = "the paper is wrong"
             out.append(Row(pid, key, pub.source, pub.meaning, pub.printed, float(rep.value), float(rep.accuracy), agree, n,
-                           verdict, rep.how, rep.evidence))
+                           verdict, rep.how, rep.evidence, rep.erratum))
     return out
 
 
@@ -129,4 +132,6 @@ def format_table(table):
         lines.append(f"{r.key:<28} {r.printed:>18} {computed:>22} {r.digits_agree:>3}/{r.digits_printed:<3}  {r.verdict}")
         if r.evidence:
             lines.append(f"{'':<28} evidence: {r.evidence}")
+        if r.erratum:
+            lines.append(f"{'':<28} erratum: {r.erratum}")
     return "\n".join(l for l in lines if l is not None)

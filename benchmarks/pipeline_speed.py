@@ -15,15 +15,9 @@ import statistics
 import time
 
 import ocp
-from ocp import analytic
 from ocp.transcription import MultipleShooting, build
+from reference_cases import CASES
 
-CASES = {
-    "swing-up kappa=1": (ocp.swing_up(1.0), lambda: analytic.one_switch("swing-up", 1.0)),
-    "damping kappa=1": (ocp.damping(1.0), lambda: analytic.one_switch("damping", 1.0)),
-    "swing-up kappa=1/2": (ocp.swing_up(0.5), lambda: analytic.two_switch("swing-up", 0.5)),
-    "swing-up kappa=3/4": (ocp.swing_up(0.75), lambda: analytic.two_switch("swing-up", 0.75)),
-}
 METHODS = {
     "direct N=100": (MultipleShooting(N=100), False),
     "direct N=200": (MultipleShooting(N=200), False),

@@ -20,15 +20,9 @@ import time
 import numpy as np
 
 import ocp
-from ocp import analytic
 from ocp.direct import Guess
+from reference_cases import CASES
 
-CASES = {
-    "swing-up kappa=1": (ocp.swing_up(1.0), lambda: analytic.one_switch("swing-up", 1.0)),
-    "damping kappa=1": (ocp.damping(1.0), lambda: analytic.one_switch("damping", 1.0)),
-    "swing-up kappa=1/2": (ocp.swing_up(0.5), lambda: analytic.two_switch("swing-up", 0.5)),
-    "swing-up kappa=3/4": (ocp.swing_up(0.75), lambda: analytic.two_switch("swing-up", 0.75)),
-}
 
 
 def random_guess(problem, seed, N=100):

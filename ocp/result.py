@@ -156,7 +156,7 @@ class Solution:
                          f"independent re-simulation misses the target by {self.refined_resim_miss:.0e})")
             digits = lambda v: defended(v, r.switch_time_error)
         else:
-            lines.append(f"T = {self.T_direct:.{_decimals(s.h)}f}   (direct transcription: error below h^2/4 observed, "
+            lines.append(f"T = {self.T_direct:.{_decimals(s.h)}f}   (direct transcription: error below h^2/2 observed, "
                          f"h = {s.h:.2g}; not refined)")
             digits = lambda v: f"{v:.4f}"
         signs = pattern(self.arc_signs)
@@ -193,6 +193,7 @@ def _angle(theta):
 
 
 def _decimals(h):
-    """Decimals of a direct T worth printing: its error was observed below h^2/4 (the switch interval's
-    control averages the switch; tests/test_direct.py), so half a unit of the last decimal >= h^2/4."""
-    return max(1, min(8, math.floor(-math.log10(0.5 * h * h))))
+    """Decimals of a direct T worth printing: its error was observed below h^2/2 (the switch
+    interval's control averages the switch; N = 25..800 on the paper's cases, tests/test_direct.py),
+    so half a unit of the last decimal is at least h^2/2."""
+    return max(1, min(8, math.floor(-2 * math.log10(h))))

@@ -147,6 +147,8 @@ def main(argv=None):
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_solve(sub)
     _add_verify(sub)
+    from .bench.command import add_commands as _add_bench_and_report
+    _add_bench_and_report(sub)
     try:
         args = parser.parse_args(argv)
         return args.run(args)

@@ -1,0 +1,98 @@
+"""The peer: rockit (`pip install rockit-meco`, the `peer` extra), solving the same cases with its own
+multiple shooting (`rockit.MultipleShooting(N, M, intg="rk")`, free final time), from the same
+initial guesses, verified by ocp's independent re-simulation, read by ocp's structure reader.
+
+Like `ocp.direct.solve`, every guess is solved and the best verified answer kept; the NLP is
+transcribed once per call (rockit has no cache across calls), and that is its build time.
+"""
+
+import importlib.util
+import math
+import time
+
+import casadi as ca
+import numpy as np
+
+from .. import direct, simulate, structure
+from ..errors import last_line
+from ..result import Solution
+
+MISSING = "rockit is not installed (pip install 'ocp[peer]', i.e. rockit-meco): its runs are skipped"
+
+
+def available():
+    return importlib.util.find_spec("rockit") is not None
+
+
+def _ocp(problem, method, T_guess):
+    """The rockit Ocp of `problem` (target on any branch: sin(theta_T - base) = 0, cos(...) >= 0)."""
+    import rockit
+
+    oc = rockit.Ocp(T=rockit.FreeTime(T_guess))
+    theta, omega, u = oc.state(), oc.state(), oc.control()
+    oc.set_der(theta, omega)
+    oc.set_der(omega, -ca.sin(theta) + problem.kappa * u)
+    oc.subject_to(-1 <= (u <= 1))
+    oc.subject_to(oc.at_t0(theta) == problem.x0[0])
+    oc.subject_to(oc.at_t0(omega) == problem.x0[1])
+    oc.subject_to(ca.sin(oc.at_tf(theta) - problem.target_base) == 0)
+    oc.subject_to(ca.cos(oc.at_tf(theta) - problem.target_base) >= 0)
+    oc.subject_to(oc.at_tf(omega) == 0)
+    oc.add_objective(oc.T)
+    oc.method(rockit.MultipleShooting(N=method.N, M=method.M, intg="rk"))
+    options = {"expand": True, "print_time": False}
+    if method.solver == "ipopt":
+        options.update({"ipopt.print_level": 0, "ipopt.sb": "yes"})
+    oc.solver(method.solver, dict(options, **method.options))
+    return oc, (theta, omega, u)
+
+
+def solve(problem, method, guess=None, miss_tol=direct.MISS_TOL):
+    """An ocp `Solution` of `problem` by rockit; `guess` None (ocp's default starts) or a Guess.
+    Returns (solution, (n_w, n_g)), the NLP size as rockit built it."""
+    start = time.perf_counter()
+    guesses = direct.default_guesses(problem, method.N) if guess is None else [guess]
+    oc, (theta, omega, u) = _ocp(problem, method, guesses[0].T)
+    oc._transcribe()           # rockit transcribes lazily on solve; done here so the build is timed alone
+    build_time = time.perf_counter() - start
+    runs = []
+    opti = oc._method.opti
+    # rockit's own set_initial of a sampled array takes seconds (it evaluates an interpolant at
+    # every node symbolically); the grid values go straight to the Opti variables instead
+    nodes = [oc.sample(v, grid="control")[1] for v in (oc.T, theta, omega, u)]
+    for g in guesses:
+        for var, values, n in zip(nodes, (g.T, *g.on_grid(method.N)), (1, method.N + 1, method.N + 1, method.N)):
+            opti.set_initial(var[:, :n], values)
+        runs.append(_run(oc, (theta, omega, u), problem, method, g, miss_tol, build_time))
+    best = min(runs, key=lambda r: (not r.success, not r.solver_success, r.T if math.isfinite(r.T) else math.inf))
+    best.starts = [{"guess": r.guess, "success": r.success, "status": r.status, "T": r.T} for r in runs]
+    best.solve_time_s = sum(r.solve_time_s for r in runs)
+    best.total_time_s = time.perf_counter() - start
+    return best, (opti.nx, opti.ng)
+
+
+def _run(oc, variables, problem, method, guess, miss_tol, build_time):
+    theta, omega, u = variables
+    start = time.perf_counter()
+    try:
+        sol = oc.solve()
+        stats = sol.stats
+    except RuntimeError as err:       # rockit raises when the solver does not succeed
+        sol, stats = oc.non_converged_solution, {"return_status": f"not converged: {last_line(err)}"}
+    solve_time = time.perf_counter() - start
+    stats = dict(oc._method.opti.stats(), **stats)
+    T = float(sol.value(oc.T))
+    t = np.linspace(0.0, T, method.N + 1)
+    x = np.column_stack([sol.sample(theta, grid="control")[1], sol.sample(omega, grid="control")[1]])
+    uu = np.clip(sol.sample(u, grid="control")[1][:-1], -1.0, 1.0)
+    branch = problem.nearest_branch(x[-1, 0])
+    end = simulate.piecewise(problem.x0, t, uu, problem.kappa)[-1]
+    miss = float(np.hypot(*(end - np.array(problem.target(branch)))))
+    solver_ok = bool(stats.get("success", False))
+    status = str(stats.get("return_status"))
+    if solver_ok and miss > miss_tol:
+        status = f"{status}, but the re-simulated control misses the target by {miss:.1e} > {miss_tol:.0e}"
+    info = dict(method.to_dict(), transcription="rockit multiple shooting", integrator="rk")
+    return Solution(problem, info, T, t, x, uu, branch, solver_ok and miss <= miss_tol, status, solver_ok,
+                    int(stats.get("iter_count", -1)), structure.read(t, x, uu, problem.kappa), miss, miss_tol,
+                    build_time, solve_time, solve_time, guess.label)

@@ -1,0 +1,124 @@
+"""ocp bench and ocp report on a tiny suite: rows for successes and failures, resume, export, charts,
+the Dask executor on a loopback cluster, the peer's skip note, and one-line errors (exit 2)."""
+
+import json
+import sqlite3
+
+import pytest
+
+from ocp import cli
+from ocp.bench import peer, report, runner, suite
+from ocp.bench.store import Store
+
+TINY = """
+name = "tiny"
+repeats = 1
+[[cases]]
+kind = "swing-up"
+kappa = 1.0
+guess = ["default", 3]
+[[methods]]
+N = 20
+solver = ["ipopt", "feasiblesqpmethod"]
+[[methods]]
+transcription = "direct-collocation"
+N = 20
+solver = "fatrop"
+"""
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    path = tmp_path_factory.mktemp("suite") / "tiny.toml"
+    path.write_text(TINY)
+    return path
+
+
+def bench(argv, capsys):
+    code = cli.main(["bench", *map(str, argv), "--json"])
+    return code, json.loads(capsys.readouterr().out)
+
+
+def test_suite_expands_lists_and_keys_are_stable(tiny):
+    s = suite.load(tiny)
+    assert len(s.cases) == 2 and len(s.methods) == 3 and len(s.pairs()) == 6
+    assert s.cases[1].guess == 3 and s.methods[2].family == "DC radau3 / fatrop"
+    assert suite.load(tiny).pairs()[0][1].key == s.methods[0].key
+    assert len(suite.load("quick").pairs()) > 0 and len(suite.load("full").pairs()) > len(suite.load("quick").pairs())
+
+
+def test_bench_stores_every_row_resumes_and_reports(tiny, tmp_path, capsys):
+    store = tmp_path / "tiny.sqlite"
+    code, out = bench([tiny, "--store", store, "--jobs", "2"], capsys)
+    assert code == 0 and out["run_now"] == 6 and out["resumed"] == 0
+    assert out["environment"]["cores"] >= 1 and out["environment"]["packages"]["casadi"]
+    rows = {(r["case_label"], r["label"]): r for r in Store(store).results()}
+    ok = rows[("swing-up kappa=1", "MS rk4 M=4 / ipopt N=20")]
+    assert ok["outcome"] == "ok" and ok["ref_source"].startswith("analytic one_switch")
+    assert 0 < ok["T_error"] <= ok["T_accuracy"] and ok["structure_ok"] and ok["timing"]["parallel"]
+    assert ok["n_w"] > 0 and ok["build_time_s"] > 0 and len(ok["switch_time_errors"]) == 1
+    assert rows[("swing-up kappa=1", "DC radau3 / fatrop N=20")]["outcome"] == "build error"
+    assert rows[("swing-up kappa=1", "MS rk4 M=4 / feasiblesqpmethod N=20")]["outcome"] == "no convergence"
+    assert rows[("swing-up kappa=1 guess#3", "MS rk4 M=4 / ipopt N=20")]["success"]
+
+    with sqlite3.connect(store) as db:       # as if interrupted before the last row
+        db.execute("delete from results where rowid = (select max(rowid) from results)")
+    code, out = bench([tiny, "--store", store], capsys)
+    assert code == 0 and (out["run_now"], out["resumed"]) == (1, 5)
+
+    assert cli.main(["report", str(store), "--out", str(tmp_path / "rep"), "--json"]) == 0
+    tables = json.loads(capsys.readouterr().out)
+    assert tables["runs"] == 6 and {f["outcome"] for f in tables["failures"]} == {"build error", "no convergence"}
+    names = {p.rsplit("/", 1)[-1] for p in tables["files"]}
+    assert {"profile_time.png", "profile_accuracy.png", "results.csv", "results.json", "summary.md",
+            "work_precision_swing-up-kappa-1.png"} <= names
+    assert len(json.loads((tmp_path / "rep" / "results.json").read_text())) == 6
+
+
+def test_dask_cluster_runs_the_same_suite(tiny, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    s = suite.load(tiny)
+    s = suite.Suite(s.name, s.description, 1, s.time_limit_s, s.miss_tol, s.cases[:1], s.methods[:1])
+    store = Store(tmp_path / "dask.sqlite")
+    with distributed.LocalCluster(host="127.0.0.1", protocol="tcp://", processes=False, n_workers=1,
+                                  threads_per_worker=1, dashboard_address=":0") as cluster:
+        with runner.executor(scheduler=cluster.scheduler_address) as (pool, workers, name):
+            out = runner.run(s, store, pool, workers, name, {})
+    assert name.startswith("dask tcp://127.0.0.1") and [r["outcome"] for r in out["records"]] == ["ok"]
+
+
+def test_missing_peer_is_skipped_with_a_note(tmp_path, monkeypatch, capsys):
+    path = tmp_path / "peer.toml"
+    path.write_text(TINY.replace('solver = ["ipopt", "feasiblesqpmethod"]', 'solver = "ipopt"')
+                    + '[[methods]]\ntranscription = "rockit"\nN = 20\n')
+    monkeypatch.setattr(peer, "available", lambda: False)
+    code, out = bench([path, "--store", tmp_path / "p.sqlite"], capsys)
+    assert code == 0 and out["notes"] == [peer.MISSING] and out["run_now"] == 4
+    assert all("rockit" not in m["method"] for m in out["methods"])
+
+
+def test_outcome_and_mirror_structure():
+    case = suite.Case("swing-up", 1.0)
+    ref = {"T": 4.0, "T_error": 1e-14, "source": "test", "arc_signs": [1, -1], "switch_times": [3.0], "branch": 0}
+    run = {"status": "Solve_Succeeded", "success": True, "solver_success": True, "bang_bang": True, "T": 4.001,
+           "T_accuracy": 0.002, "arc_signs": [-1, 1], "branch": -1, "switch_times": [3.001], "total_time_s": 1.0}
+    assert runner.score(run, ref, case, 60)["outcome"] == "ok"                 # the mirror image is right
+    assert runner.score(dict(run, branch=0), ref, case, 60)["outcome"] == "wrong structure"
+    assert runner.score(dict(run, T=5.0, branch=0), ref, case, 60)["outcome"] == "local optimum"
+    assert runner.score(dict(run, T=4.01), ref, case, 60)["outcome"] == "inaccurate"
+    assert runner.score(run, ref, case, 0.5)["outcome"] == "time limit"
+    assert runner.score(dict(run, success=False), ref, case, 60)["outcome"] == "misses target"
+    best = report.best_known([dict(runner.score(run, ref, case, 60), problem="p", refined=False)])
+    assert best == {"p": 4.0}
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["bench", "no-such-suite"], "no suite 'no-such-suite'"),
+    (["bench", "quick", "--jobs", "0"], "jobs = '0'"),
+    (["report", "/nonexistent/x.sqlite"], "no results store"),
+    (["report", "x.sqlite", "--format", "gif"], "format 'gif'"),
+])
+def test_bad_input_is_one_line_and_exit_2(argv, words, capsys):
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1 and "Traceback" not in err

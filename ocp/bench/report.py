@@ -116,7 +116,7 @@ def markdown(rows):
 
 
 def _slug(text):
-    return re.sub(r"[^a-z0-9.]+", "-", text.lower()).strip("-")
+    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
 
 
 def work_precision(records, out_dir, formats):

@@ -142,11 +142,33 @@ def _run_verify(args):
     return 0 if all(r.verdict != "disagrees" for r in table) else 1
 
 
+def _add_figures(sub):
+    p = sub.add_parser("figures", help="the papers' figures from the suite's own computations, and the benchmark charts")
+    p.add_argument("--out", default="figures", help="folder for the files, default ./figures")
+    p.add_argument("--only", action="append", metavar="NAME", help="only this figure (repeatable; a wrong name lists them all)")
+    p.add_argument("--format", default="png,pdf", help="comma separated: png, pdf, svg; default png,pdf")
+    p.add_argument("--store", default="ocp-bench-quick.sqlite",
+                   help="the results store of `ocp bench` for the benchmark charts (skipped if absent), "
+                        "default ./ocp-bench-quick.sqlite")
+    p.set_defaults(run=_run_figures)
+
+
+def _run_figures(args):
+    from . import figures
+
+    with _stdout_to_stderr():
+        written = figures.write(args.out, args.only, tuple(f.strip() for f in args.format.split(",")), args.store)
+    for name, paths in written.items():
+        print(f"{name}: {paths}" if isinstance(paths, str) else f"{name}: {', '.join(map(str, paths))}")
+    return 0
+
+
 def main(argv=None):
     parser = _Parser(prog="ocp", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_solve(sub)
     _add_verify(sub)
+    _add_figures(sub)
     from .bench.command import add_commands as _add_bench_and_report
     _add_bench_and_report(sub)
     try:

@@ -83,13 +83,17 @@ def explore(problem, sol, method, solver, options):
     neighbouring branches are reached by direct solves from the straight guess."""
     method = method or MultipleShooting()
     found = [(label, signs, d, sol.branch) for label, signs, d in neighbours(sol.structure.arc_signs, _durations(sol))]
+    candidates = []
     if problem.branch is None:
         for k in (sol.branch - 1, sol.branch + 1):
             pinned = Problem(problem.kind, problem.kappa, problem.x0, k)
             other = direct.solve(pinned, method, solver, options, direct.default_guesses(pinned, method.N)[0])
+            label = f"direct solve to branch {k}"
             if other.success:
-                found.append((f"direct solve to branch {k}", other.structure.arc_signs, _durations(other), k))
-    candidates = []
+                found.append((label, other.structure.arc_signs, _durations(other), k))
+            else:
+                candidates.append(Candidate(label, other.structure.arc_signs, k,
+                                            f"no extremal: the direct solve failed ({other.status})", None))
     for label, signs, d, branch in found:
         c = _candidate(problem, label, signs, d, branch)
         twin = next((o for o in candidates if o.valid and c.valid and o.signs == c.signs and o.branch == c.branch

@@ -38,6 +38,7 @@ TOL = 1e-14
 TOL_CHECK = 1e-12
 TOL_COARSE = 1e-10
 STEPS = 50
+MAX_ITER = 100             # IPOPT iterations of the first stage: a feasible structure needs far fewer
 COLLAPSE = 1e-7
 MAX_STEPS = 5000           # CVODES steps per arc: several times what a feasible arc needs at TOL
 RESIDUAL_TOL = 1e-10  # the conditions hold to integrator noise
@@ -143,8 +144,8 @@ def _switching_time_nlp(n):
             k4 = f(x + h * k3, s[i])
             x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
     nlp = {"x": d, "p": par, "f": ca.sum1(d), "g": x - target}
-    return ca.nlpsol("switching_times", "ipopt", nlp, {"print_time": False, "ipopt.print_level": 0,
-                                                       "ipopt.sb": "yes", "ipopt.tol": 1e-10})
+    return ca.nlpsol("switching_times", "ipopt", nlp, {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
+                                                       "ipopt.tol": 1e-10, "ipopt.max_iter": MAX_ITER})
 
 
 def switching_times(x0, kappa, target, signs, durations):

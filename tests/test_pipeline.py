@@ -76,8 +76,8 @@ def test_three_quarters_examines_the_one_switch_local_solution():
     t_one = [c.T for c in sol.candidates if c.valid and c.signs == (1, -1) and c.branch == 0]
     assert t_one and t_one[0] == pytest.approx(6.5690173615, abs=1e-9)
     assert sol.T < t_one[0] and sol.n_switches == 2
-    # none silently dropped: 5 neighbours of a 3-arc structure + the 2 neighbouring branches
-    assert len(sol.candidates) == 7 and all(c.valid or c.status.startswith(("no extremal", "misses", "duplicate"))
+    # none silently dropped: the structure found, its 5 neighbours, and the 2 neighbouring branches
+    assert len(sol.candidates) == 8 and all(c.valid or c.status.startswith(("no extremal", "misses", "duplicate"))
                                             for c in sol.candidates)
     assert {c.label for c in sol.candidates} >= {"found", "other first sign", "one switch more (arc before)"}
 

@@ -84,12 +84,13 @@ def test_portrait_context(portraits, name):
         assert np.all(side * (th - math.pi) >= 0) and np.all(-side * om >= 0)
         invariant = model.arc_invariant((th, om), u, d["kappa"])
         assert np.allclose(invariant, model.arc_invariant((math.pi, 0.0), u, d["kappa"]), atol=1e-12)
-    assert d["equilibria"] == {"stable": [(0.0, 0.0)], "unstable": [(math.pi, 0.0)]}
+    assert d["equilibria"] == {"stable": [(0.0, 0.0)], "unstable": [(-math.pi, 0.0), (math.pi, 0.0)]}
 
 
 def test_labels_print_only_defended_digits():
     assert finch._fmt(2.5707963267954494, 1e-10) == "2.5708"
     assert finch._fmt(-0.39469300797734286, 3e-3) == "−0.39"
+    assert [finch._pi_halves(k) for k in (-2, -1, 0, 1, 2, 3)] == ["−π", "−π/2", "0", "π/2", "π", "3π/2"]
 
 
 def test_batista_figure1(data):

@@ -1,7 +1,8 @@
 """Robustness of the pipeline (issue 5): seeded random initial guesses on the four reference cases.
 
-For each case and seed, `ocp.solve(problem, guess=random_guess(problem, seed))` runs from that one
-guess (no default family): the direct solve, then the competing structures, then the certificate.
+For each case and seed, `ocp.solve(problem, guess=ocp.direct.random_guess(problem, seed, 100))`
+runs from that one guess (the default family only if it fails): the direct solve, then the
+competing structures, then the certificate.
 The table counts, per case, how often each stage failed and whether the final answer has the
 reference structure and T (analytic formulas, `ocp.analytic`):
 
@@ -16,29 +17,11 @@ reference structure and T (analytic formulas, `ocp.analytic`):
 """
 
 import argparse
-import math
 import time
 
-import numpy as np
-
 import ocp
-from ocp.direct import Guess
+from ocp.direct import random_guess
 from reference_cases import CASES
-
-
-
-def random_guess(problem, seed, N=100):
-    """T uniform in [0.5, 2] times the default's; theta a straight line to the nearest target plus
-    three sine modes of N(0, 1) rad amplitude; u uniform in [-1, 1] on each interval."""
-    rng = np.random.default_rng(seed)
-    theta0, omega0 = problem.x0
-    theta_t = problem.target(problem.guess_branch)[0]
-    T = rng.uniform(0.5, 2.0) * (2 + abs(theta_t - theta0)) / math.sqrt(problem.kappa)
-    s = np.linspace(0.0, 1.0, N + 1)
-    theta = theta0 + (theta_t - theta0) * s + sum(rng.normal() * np.sin(j * math.pi * s) for j in (1, 2, 3))
-    omega = np.gradient(theta, s) / T
-    omega[0] = omega0
-    return Guess(T, tuple(s), tuple(theta), tuple(omega), tuple(rng.uniform(-1, 1, N)), f"random seed {seed}")
 
 
 def run(seeds):
@@ -48,7 +31,7 @@ def run(seeds):
         counts = dict(direct_failed=0, direct_wrong=0, final_right=0, certified=0)
         start = time.perf_counter()
         for seed in range(seeds):
-            sol = ocp.solve(problem, guess=random_guess(problem, seed))
+            sol = ocp.solve(problem, guess=random_guess(problem, seed, 100))
             direct_signs = tuple(sol.structure.arc_signs)
             ref_signs = tuple(ref.first_u * (-1) ** i for i in range(ref.n_switches + 1))
             counts["direct_failed"] += not sol.starts[0]["success"]

@@ -5,13 +5,13 @@ exits 1 (with `--json`, still one object with "success": false).
 """
 
 import argparse
-import contextlib
 import json
 import math
 import os
 import sys
 
 from .errors import InputError
+from .redirect import solver_output
 
 
 class _Parser(argparse.ArgumentParser):
@@ -19,21 +19,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message):
         raise InputError(f"{self.prog}: {message}")
-
-
-@contextlib.contextmanager
-def _stdout_to_stderr():
-    """Send what compiled solvers print (banners, iteration logs) to stderr, so stdout holds only
-    the answer (one JSON object with --json)."""
-    sys.stdout.flush()
-    saved = os.dup(1)
-    os.dup2(2, 1)
-    try:
-        yield
-    finally:
-        sys.stdout.flush()
-        os.dup2(saved, 1)
-        os.close(saved)
 
 
 def _print_json(obj):
@@ -112,7 +97,7 @@ def _run_solve(args):
     else:
         raise InputError(f"unknown transcription {args.transcription!r}; accepted: multiple-shooting, direct-collocation")
     miss_tol = finite("miss-tol", args.miss_tol, "a number > 0")
-    with _stdout_to_stderr():
+    with solver_output("stderr"):
         result = pipeline.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,
                                 refine=not args.no_refine)
     if args.json:
@@ -156,7 +141,7 @@ def _add_figures(sub):
 def _run_figures(args):
     from . import figures
 
-    with _stdout_to_stderr():
+    with solver_output("stderr"):
         written = figures.write(args.out, args.only, tuple(f.strip() for f in args.format.split(",")), args.store)
     for name, paths in written.items():
         print(f"{name}: {paths}" if isinstance(paths, str) else f"{name}: {', '.join(map(str, paths))}")
@@ -177,6 +162,9 @@ def main(argv=None):
     except InputError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
+    except BrokenPipeError:          # the reader (e.g. `| head`) stopped reading: not an error of ours
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":

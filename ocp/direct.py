@@ -73,6 +73,19 @@ def default_guesses(problem, N=100):
     return guesses
 
 
+def random_guess(problem, seed, N):
+    """A seeded random Guess: ocp's straight guess with T scaled by a factor in [1/2, 2], theta
+    displaced by three sine modes of amplitude up to 2 rad, and u uniform in [-1, 1]."""
+    rng = np.random.default_rng(seed)
+    base = default_guesses(problem, N)[0]
+    s = np.asarray(base.s)
+    T = base.T * math.exp(rng.uniform(-math.log(2), math.log(2)))
+    theta = np.asarray(base.theta) + sum(rng.uniform(-2, 2) * np.sin(j * math.pi * s) for j in (1, 2, 3))
+    omega = np.gradient(theta, s) / T
+    omega[0] = problem.x0[1]
+    return Guess(T, tuple(s), tuple(theta), tuple(omega), tuple(rng.uniform(-1, 1, N)), f"random (seed {seed})")
+
+
 def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=MISS_TOL):
     """Minimum-time solution of `problem` by direct multiple shooting (`method`, default
     MultipleShooting()), NLP solved by casadi.nlpsol(`solver`, `options`) (options untouched).
@@ -135,8 +148,9 @@ def _run(tr, problem, guess, miss_tol):
     if solver_ok and not ok:
         status = f"{status}, but the re-simulated control misses the target by {miss:.1e} > {miss_tol:.0e}"
     method = dict(tr.settings.to_dict(), solver=tr.solver_name, options=tr.options)
+    iterations = stats.get("iter_count", -1)            # bonmin reports NaN
     return Solution(problem, method, T, t, x, u, branch, ok, status, solver_ok,
-                    int(stats.get("iter_count", -1)), structure.read(t, x, u, problem.kappa), miss, miss_tol,
+                    int(iterations) if math.isfinite(iterations) else -1, structure.read(t, x, u, problem.kappa), miss, miss_tol,
                     tr.build_time_s, solve_time, solve_time, guess.label)
 
 

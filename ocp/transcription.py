@@ -265,6 +265,11 @@ def _build(settings, solver_name, options_json, free_branch):
 
 
 
+def clear_cache():
+    """Forget every built NLP (the next solve builds cold, e.g. to time a build)."""
+    _build.cache_clear()
+
+
 #: NLP plugins tried by `available_solvers`
 NLP_PLUGINS = ("ipopt", "fatrop", "sqpmethod", "feasiblesqpmethod", "blocksqp", "bonmin", "knitro", "snopt",
                "worhp", "madnlp", "alpaqa", "qrsqp", "scpgen")

@@ -41,7 +41,8 @@ def add_commands(sub):
 
 
 def run_bench(args):
-    from ..cli import _print_json, _stdout_to_stderr
+    from ..cli import _print_json
+    from ..redirect import solver_output
 
     suite = suite_module.load(args.suite)
     try:
@@ -54,7 +55,7 @@ def run_bench(args):
     start = time.perf_counter()
     env = environment()
     try:
-        with runner.executor(jobs, args.scheduler) as (pool, workers, name), _stdout_to_stderr():
+        with runner.executor(jobs, args.scheduler) as (pool, workers, name), solver_output("stderr"):
             result = runner.run(suite, store, pool, workers, name, env)
     except KeyboardInterrupt:
         rows = len(store.done())

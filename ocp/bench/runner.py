@@ -14,7 +14,6 @@ that raises, all stored with their status.
 
 import concurrent.futures as cf
 import contextlib
-import ctypes
 import math
 import os
 import statistics
@@ -23,6 +22,7 @@ import time
 
 from .. import analytic, pipeline, transcription
 from ..errors import InputError, last_line
+from ..redirect import solver_output
 from . import peer
 
 #: the direct stage of a reference solve (its structure seeds the refinement)
@@ -37,27 +37,6 @@ OUTCOMES = ("ok", "build error", "solver error", "time limit", "no convergence",
 def _num(x):
     """x as a float, None when missing or not finite (the store holds JSON)."""
     return float(x) if x is not None and math.isfinite(x) else None
-
-
-@contextlib.contextmanager
-def quiet():
-    """Send what compiled solvers print (file descriptors 1 and 2) to /dev/null meanwhile. The C
-    library's buffers are flushed before the descriptors return: a solver's buffered output (e.g.
-    feasiblesqpmethod's banner) would otherwise surface later on the real stdout."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    saved = [os.dup(1), os.dup(2)]
-    null = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(null, 1)
-    os.dup2(null, 2)
-    try:
-        yield
-    finally:
-        ctypes.CDLL(None).fflush(None)
-        os.dup2(saved[0], 1)
-        os.dup2(saved[1], 2)
-        for fd in saved + [null]:
-            os.close(fd)
 
 
 # --- references ---------------------------------------------------------------------------------
@@ -76,7 +55,7 @@ def reference(case):
     problem = case.problem()
     start = time.perf_counter()
     try:
-        with quiet():
+        with solver_output("devnull"):
             sol = pipeline.solve(problem, REFERENCE_METHOD)
     except Exception as err:        # noqa: BLE001  (no reference is a recorded fact, not a crash)
         return {"problem": case.problem_key, "T": None, "T_error": None, "arc_signs": None, "switch_times": None,
@@ -109,7 +88,7 @@ def _solve_once(case, method, miss_tol):
     problem, guess = case.problem(), case.initial_guess(method.N)
     if method.transcription == "rockit":
         return peer.solve(problem, method, guess, miss_tol)
-    transcription._build.cache_clear()        # a cold build every repeat
+    transcription.clear_cache()               # a cold build every repeat
     sol = pipeline.solve(problem, method.settings(), method.solver, method.options, guess, miss_tol, method.refine)
     built = transcription.build(method.settings(), method.solver, method.options, free_branch=True)
     return sol, (built.n_w, built.n_g)
@@ -136,7 +115,7 @@ def measure(case, method, repeats=1, miss_tol=1e-6):
     plugin that cannot load, an option it rejects) or a solve that raises gives a failure record."""
     times = []
     first = None
-    with quiet():
+    with solver_output("devnull"):
         for _ in range(repeats):
             try:
                 sol, size = _solve_once(case, method, miss_tol)

@@ -33,8 +33,6 @@ import tomllib
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 
-import numpy as np
-
 from .. import direct, problems
 from ..errors import InputError
 from ..transcription import DirectCollocation, MultipleShooting
@@ -52,7 +50,7 @@ def _key(obj):
 @dataclass(frozen=True)
 class Case:
     """One problem and one initial guess: `guess` None (ocp's default starts, best of three) or an
-    integer seed of a random guess (`random_guess`)."""
+    integer seed of a random guess (`ocp.direct.random_guess`)."""
 
     kind: str
     kappa: float
@@ -63,7 +61,7 @@ class Case:
         return problems.make(self.kind, self.kappa, self.x0)
 
     def initial_guess(self, N):
-        return None if self.guess is None else random_guess(self.problem(), self.guess, N)
+        return None if self.guess is None else direct.random_guess(self.problem(), self.guess, N)
 
     @property
     def problem_key(self):
@@ -154,19 +152,6 @@ class Suite:
     def pairs(self):
         """Every (case, method) pair, cases outermost."""
         return [(c, m) for c in self.cases for m in self.methods]
-
-
-def random_guess(problem, seed, N):
-    """A seeded random Guess: ocp's straight guess with T scaled by a factor in [1/2, 2], theta
-    displaced by three sine modes of amplitude up to 2 rad, and u uniform in [-1, 1]."""
-    rng = np.random.default_rng(seed)
-    base = direct.default_guesses(problem, N)[0]
-    s = np.asarray(base.s)
-    T = base.T * math.exp(rng.uniform(-math.log(2), math.log(2)))
-    theta = np.asarray(base.theta) + sum(rng.uniform(-2, 2) * np.sin(j * math.pi * s) for j in (1, 2, 3))
-    omega = np.gradient(theta, s) / T
-    omega[0] = problem.x0[1]
-    return direct.Guess(T, tuple(s), tuple(theta), tuple(omega), tuple(rng.uniform(-1, 1, N)), f"random (seed {seed})")
 
 
 def _expand(table, what):

@@ -1,0 +1,31 @@
+"""Where compiled solvers print: CasADi's plugins (IPOPT, qpOASES, SUNDIALS...) write to the C file
+descriptors 1 and 2, out of Python's reach. `solver_output(to)` points them elsewhere meanwhile, so
+that stdout holds only the answer (one JSON object with --json)."""
+
+import contextlib
+import ctypes
+import os
+import sys
+
+
+@contextlib.contextmanager
+def solver_output(to):
+    """Descriptors 1 and 2 to `to` ("stderr": both to the terminal's stderr; "devnull": discarded)
+    meanwhile. The C library's buffers are flushed before the descriptors return, or a solver's
+    buffered output (e.g. feasiblesqpmethod's banner) would surface later on the real stdout."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = [os.dup(1), os.dup(2)]
+    sink = os.open(os.devnull, os.O_WRONLY) if to == "devnull" else os.dup(2)
+    os.dup2(sink, 1)
+    os.dup2(sink, 2)
+    try:
+        yield
+    finally:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        ctypes.CDLL(None).fflush(None)
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in saved + [sink]:
+            os.close(fd)

@@ -2,13 +2,14 @@
 
 import json
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
 
 from ocp import cli, figures, model, references, verify
 from ocp.bench.store import Store
-from ocp.figures import FIGURES, batista, finch, vibrating_pivot, write
+from ocp.figures import FIGURES, batista, finch, ticks, vibrating_pivot, write
 from ocp.scenes import falling, kapitza
 
 PRINTED = references.load("finch2015")
@@ -90,7 +91,8 @@ def test_portrait_context(portraits, name):
 def test_labels_print_only_defended_digits():
     assert finch._fmt(2.5707963267954494, 1e-10) == "2.5708"
     assert finch._fmt(-0.39469300797734286, 3e-3) == "−0.39"
-    assert [finch._pi_halves(k) for k in (-2, -1, 0, 1, 2, 3)] == ["−π", "−π/2", "0", "π/2", "π", "3π/2"]
+    assert [ticks.pi_label(Fraction(k, 2)) for k in (-2, -1, 0, 1, 3, 4)] == ["−π", "−π/2", "0", "π/2", "3π/2", "2π"]
+    assert ticks.pi_label(Fraction(3, 8)) == "3π/8"
 
 
 def test_batista_figure1(data):

@@ -4,12 +4,14 @@ I is dimensionless, the falling time being sqrt(L/(2g)) I). Beside it, what the 
 the relative error (I - (18))/I on logarithmic axes, with the paper's Table 2 values marked."""
 
 import math
+from fractions import Fraction
 
 import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import references
 from ..scenes import falling
+from .ticks import pi_ticks
 
 
 def figure1(n=400):
@@ -33,7 +35,7 @@ def draw_figure1(data):
     left.set(xlim=(0, falling.GROUND), ylim=(0, 8), xlabel=r"$\theta_0$ (rad from the upright)",
              ylabel=r"$I(\theta_0)$ (dimensionless; $T = I\,\sqrt{L/2g}$)",
              title="Batista & Peternelj (2006) Fig. 1")
-    left.set_xticks(np.arange(5) * math.pi / 8, ["0", "π/8", "π/4", "3π/8", "π/2"])
+    pi_ticks(left.xaxis, 0, falling.GROUND, Fraction(1, 8))
     left.legend(loc="upper right")
     right.loglog(data["small"], np.abs(data["relative_error"]), color="black", label="|I − (18)| / I, computed")
     right.loglog(data["table2_theta0"], np.abs(data["table2_relative_error"]), "o", mfc="none", mec="#d62728",

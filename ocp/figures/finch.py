@@ -20,6 +20,7 @@ from .. import analytic, model, pipeline, plotting, problems, simulate
 from ..certificate import certify
 from ..refine import with_error_estimate
 from ..verify import defended
+from .ticks import pi_ticks
 
 XLIM = (-math.pi, 3 * math.pi / 2)
 YLIM = (-2.4, 2.4)
@@ -117,14 +118,6 @@ def _fmt(value, error):
     return defended(value, max(error, 5e-5)).replace("-", "−")
 
 
-def _pi_halves(k):
-    """k*pi/2 as a tick label: "−π", "−π/2", "0", "π/2", "π", "3π/2", ..."""
-    if k == 0:
-        return "0"
-    text = (f"{abs(k) // 2 if abs(k) > 2 else ''}π" if k % 2 == 0 else f"{abs(k) if abs(k) > 1 else ''}π/2")
-    return ("−" if k < 0 else "") + text
-
-
 def _signs(signs):
     return " ".join(f"{s:+d}".replace("-", "−") for s in signs)
 
@@ -182,8 +175,7 @@ def draw(data, title):
                         "switch by Finch's formula (ocp.analytic)"))
     for x, text in ((data["x0"], "start (0, 0)"), (data["target"], "end (π, 0)")):
         ax.annotate(text, x, xytext=(9, 0), textcoords="offset points", fontsize=8, va="center")
-    halves = np.arange(math.ceil(XLIM[0] / (math.pi / 2)), math.floor(XLIM[1] / (math.pi / 2)) + 1)
-    ax.set_xticks(halves * math.pi / 2, [_pi_halves(k) for k in halves])
+    pi_ticks(ax.xaxis, *XLIM)
     ax.set(xlim=XLIM, ylim=YLIM, title=title, xlabel=r"$\theta$ (rad; 0 hanging, π upright)",
            ylabel=r"$\omega = d\theta/dt$ (rad per time unit $\sqrt{I/mg\ell}$)")
     ax.legend(*zip(*handles), handler_map={tuple: HandlerTuple(ndivide=None)},

@@ -10,6 +10,7 @@ import numpy as np
 
 from .. import references
 from ..scenes import kapitza as scene
+from .ticks import pi_ticks
 
 VERDICT = {1: "stable", -1: "unstable"}
 READING = {"rad_s": "ω = {value:g} rad/s", "2pi": "ω = 2π·{value:g} rad/s"}
@@ -68,8 +69,8 @@ def draw_histories(data):
         ax.set(title=case["title"], xlabel="t (s)", ylabel=r"$\theta$ (rad from the upright)", xlim=(0, case["t"][-1]))
         ax.title.set_fontsize(9)
         if case["floquet"] < 0:
-            ax.set_yticks(np.arange(-1, 5) * math.pi / 2, ["−π/2", "0", "π/2", "π", "3π/2", "2π"])
             ax.set_ylim(-math.pi / 2 - 0.3, 3.2 * math.pi)
+            pi_ticks(ax.yaxis, -math.pi / 2, 2 * math.pi)
         mu = "|μ| = 1" if case["floquet"] > 0 else f"max |μ| = {case['max_abs_mu']:.4f} per period"
         ax.text(0.02, 0.96, f"printed: {VERDICT[case['printed']]}\nFloquet: {VERDICT[case['floquet']]}, {mu}"
                 + ("\nthe caption is wrong" if wrong else ""), transform=ax.transAxes, va="top", fontsize=8,

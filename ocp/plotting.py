@@ -51,7 +51,7 @@ def save(fig, stem, formats=("png", "pdf")):
     for fmt in formats:
         if fmt not in FORMATS:
             raise ValueError(f"unknown figure format {fmt!r}; accepted: {', '.join(FORMATS)}")
-        path = stem.with_suffix(f".{fmt}")
+        path = stem.with_name(f"{stem.name}.{fmt}")          # a dot inside the name is not a suffix
         metadata = {"png": {"Software": None}, "pdf": {"CreationDate": None, "ModDate": None, "Producer": None},
                     "svg": {"Date": None}}[fmt]
         fig.savefig(path, format=fmt, metadata=metadata, bbox_inches="tight")

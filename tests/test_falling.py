@@ -117,3 +117,18 @@ def test_scipy_integrators_against_closed_form(x0, method):
 def test_casadi_integrators_against_closed_form(x0, plugin, opts):
     exact = falling.time_to_ground(x0)
     assert falling.fall_time_casadi(x0, plugin, **opts) == pytest.approx(exact, rel=1e-8)
+
+
+def test_no_cancellation_near_the_ground():
+    """Near theta0 = pi/2, I is small and must keep its absolute accuracy. Reference: the same
+    Carlson form evaluated in 60-digit arithmetic (mpmath.elliprf), an independent evaluation."""
+
+    def high_precision(theta0):
+        with mp.workdps(60):
+            th = mp.mpf(theta0)
+            c, s = mp.cos(th / 2), mp.sin(th / 2)
+            k2 = c * c
+            return float(mp.sqrt(2) * (c * mp.elliprf(0, k2 * s * s, k2) - mp.elliprf(2 * k2 - 1, k2, 2 * k2)))
+
+    for theta0 in (math.pi / 2, math.pi / 2 - 1e-10, math.pi / 2 - 1e-6):
+        assert abs(falling.falling_integral(theta0) - high_precision(theta0)) < 1e-15

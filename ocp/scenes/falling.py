@@ -78,7 +78,8 @@ def falling_integral(theta0, a=0.0):
     c, s = np.cos(theta0 / 2), np.sin(theta0 / 2)
     k2 = a * a + c * c
     with np.errstate(divide="ignore", invalid="ignore"):
-        return math.sqrt(2) * (c * elliprf(a * a, k2 * s * s, k2) - elliprf(2 * k2 - 1, k2, 2 * k2))
+        # 2k^2 - 1 written as 2a^2 + cos(theta0): no cancellation as theta0 -> pi/2
+        return math.sqrt(2) * (c * elliprf(a * a, k2 * s * s, k2) - elliprf(2 * a * a + np.cos(theta0), k2, 2 * k2))
 
 
 def asymptotic18(theta0):

@@ -48,25 +48,30 @@ class Guess:
 
 
 def default_guesses(problem, N=100):
-    """Three guesses with u = 0, theta(s) = theta0 + dtheta*s + b*sin(pi*s) for a detour b = 0, -1,
-    +1 rad (straight at the target, or first swinging the other way: a backswing), dtheta =
-    target - theta0 (branch `problem.guess_branch`), and
+    """Three guesses with u = 0: braking from x0 to rest at `problem.stop_angle` (theta'' =
+    -kappa*sign(omega0), for t_b = |omega0|/kappa), then theta = stop + d*sigma + b*sin(pi*sigma),
+    sigma from 0 to 1, d = target - stop (branch `problem.guess_branch`), for a detour b = 0, -1,
+    +1 rad (straight at the target, or first swinging the other way: a backswing), in
 
-        T = max(2*sqrt(|dtheta|/kappa), 1.2*|dtheta|/kappa) + |omega0|/kappa,
+        T_rest = max(2*sqrt(|d|/kappa), 1.2*|d|/kappa),
 
-    the two limits of the optimal time: a double integrator for large kappa, energy pumped at a rate
-    of about kappa*|omega| for small kappa (from (0, 0) the optimum is 1.20 pi/kappa at kappa = 0.3);
-    the last term stops the initial velocity."""
+    the two limits of the optimal time from rest: a double integrator for large kappa, energy
+    pumped at a rate of about kappa*|omega| for small kappa (from (0, 0) the optimum is
+    1.20 pi/kappa at kappa = 0.3)."""
     theta0, omega0 = problem.x0
-    theta_t = problem.target(problem.guess_branch)[0]
-    distance, kappa = abs(theta_t - theta0), problem.kappa
-    T = max(2 * math.sqrt(distance / kappa), 1.2 * distance / kappa) + abs(omega0) / kappa
+    kappa, stop = problem.kappa, problem.stop_angle
+    d = problem.target(problem.guess_branch)[0] - stop
+    t_brake = abs(omega0) / kappa
+    T = t_brake + max(2 * math.sqrt(abs(d) / kappa), 1.2 * abs(d) / kappa)
     T = min(max(T, 2 * T_BOUNDS[0]), 0.5 * T_BOUNDS[1])
     s = np.linspace(0.0, 1.0, N + 1)
-    direction = math.copysign(1.0, theta_t - theta0) if theta_t != theta0 else 1.0
+    t = s * T
+    braking = theta0 + omega0 * t - math.copysign(kappa, omega0) * t * t / 2
+    sigma = np.clip((t - t_brake) / (T - t_brake), 0.0, 1.0)
+    direction = math.copysign(1.0, d) if d else 1.0
     guesses = []
     for b, name in ((0.0, "straight"), (-1.0, "backswing"), (1.0, "overswing")):
-        theta = theta0 + (theta_t - theta0) * s + direction * b * np.sin(math.pi * s)
+        theta = np.where(t < t_brake, braking, stop + d * sigma + direction * b * np.sin(math.pi * sigma))
         omega = np.gradient(theta, s) / T
         omega[0] = omega0
         guesses.append(Guess(T, tuple(s), tuple(theta), tuple(omega), (0.0,) * N, name))

@@ -64,9 +64,16 @@ class Problem:
         return min((lo, hi), key=abs)
 
     @property
+    def stop_angle(self):
+        """theta0 + omega0*|omega0|/(2*kappa): where full braking (u = -sign(omega), gravity
+        neglected) brings the pendulum to rest."""
+        theta0, omega0 = self.x0
+        return theta0 + omega0 * abs(omega0) / (2 * self.kappa)
+
+    @property
     def guess_branch(self):
-        """The branch an initial guess aims at: the pinned one, else the nearest to theta0."""
-        return self.branch if self.branch is not None else self.nearest_branch(self.x0[0])
+        """The branch an initial guess aims at: the pinned one, else the nearest to `stop_angle`."""
+        return self.branch if self.branch is not None else self.nearest_branch(self.stop_angle)
 
     def to_dict(self):
         return asdict(self)

@@ -15,7 +15,8 @@ unknowns, the square system
 in (d, p(0)) (n + 2 unknowns) is solved by Newton's method, the state and costate integrated by
 CVODES and differentiated by its forward sensitivities: iterations at rtol = atol = TOL_COARSE,
 then polished at TOL. Newton starts from the
-switching-time problem itself solved by IPOPT (d >= 0; RK4 with STEPS fixed steps per arc: a
+switching-time problem itself solved by IPOPT (d >= 0; RK4 with fixed steps per arc, about
+STEP_ANGLE rad of rotation each, the count rounded up to one of STEP_COUNTS: a
 globalised, moderately accurate first stage) and from p(0) solving the conditions (linear in p(0))
 in least squares along those durations. The Lagrange multiplier of the end constraint is -p(T).
 
@@ -31,16 +32,17 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from . import model
+from . import model, simulate
 from .errors import last_line
 
 TOL = 1e-14
 TOL_CHECK = 1e-12
 TOL_COARSE = 1e-10
-STEPS = 50
+STEP_ANGLE = 0.3
+STEP_COUNTS = (50, 200, 800, 3200)
 MAX_ITER = 100             # IPOPT iterations of the first stage: a feasible structure needs far fewer
 COLLAPSE = 1e-7
-MAX_STEPS = 5000           # CVODES steps per arc: several times what a feasible arc needs at TOL
+MAX_STEPS = 100000         # CVODES steps per arc (a fast spin of ~100 rad needs ~10^4 at TOL)
 RESIDUAL_TOL = 1e-10  # the conditions hold to integrator noise
 
 
@@ -129,15 +131,16 @@ def _newton_options(tol):
 
 
 @lru_cache(maxsize=32)
-def _switching_time_nlp(n):
-    """IPOPT on min sum(d) s.t. x(T; d) = target, d >= 0; params (theta0, omega0, kappa, s, target)."""
+def _switching_time_nlp(n, steps):
+    """IPOPT on min sum(d) s.t. x(T; d) = target, d >= 0 (RK4, `steps` per arc); params (theta0,
+    omega0, kappa, s, target)."""
     d = ca.SX.sym("d", n)
     par = ca.SX.sym("par", 5 + n)
     x, kappa, s, target = par[0:2], par[2], par[3:3 + n], par[3 + n:5 + n]
     f = lambda x, u: ca.vertcat(x[1], kappa * u - ca.sin(x[0]))
     for i in range(n):
-        h = d[i] / STEPS
-        for _ in range(STEPS):
+        h = d[i] / steps
+        for _ in range(steps):
             k1 = f(x, s[i])
             k2 = f(x + h / 2 * k1, s[i])
             k3 = f(x + h / 2 * k2, s[i])
@@ -151,7 +154,8 @@ def _switching_time_nlp(n):
 def switching_times(x0, kappa, target, signs, durations):
     """(durations, success): the switching-time problem by IPOPT from `durations` (first stage)."""
     n = len(signs)
-    solver = _switching_time_nlp(n)
+    wanted = np.max(durations) * simulate.peak_speed(x0, signs, durations, kappa) / STEP_ANGLE
+    solver = _switching_time_nlp(n, next((c for c in STEP_COUNTS if c >= wanted), STEP_COUNTS[-1]))
     par = np.concatenate([x0, [kappa], signs, target])
     d = solver(x0=np.maximum(durations, 1e-3), p=par, lbx=0.0, ubx=np.inf, lbg=0.0, ubg=0.0)["x"]
     return np.array(d).ravel(), bool(solver.stats()["success"])

@@ -53,6 +53,11 @@ class Solution:
     certificate: object = None
     candidates: list = field(default_factory=list)
     refine_time_s: float = 0.0
+    direct_success: bool | None = None
+
+    def __post_init__(self):
+        if self.direct_success is None:
+            self.direct_success = self.success
 
     @property
     def T(self):
@@ -135,7 +140,7 @@ class Solution:
             "total_time_s": self.total_time_s,
             "resim_miss": self.refined_resim_miss if self.refined else self.resim_miss,
             "miss_tol": self.miss_tol,
-            "direct": {"T": self.T_direct, "branch": self.branch, "structure": s.to_dict(), "resim_miss": self.resim_miss,
+            "direct": {"success": self.direct_success, "T": self.T_direct, "branch": self.branch, "structure": s.to_dict(), "resim_miss": self.resim_miss,
                        "guess": self.guess, "starts": self.starts},
         }
         if self.refined is not None:
@@ -174,7 +179,7 @@ class Solution:
         for c in self.candidates:
             T = "-" if c.T is None else f"{c.T:.10f}"
             lines.append(f"  candidate {pattern(c.signs):<18} branch {c.branch:+d}  T = {T:<14} {c.status}  [{c.label}]")
-        lines.append(f"direct: {'success' if self.success else 'FAILED'}: {self.status}; T = {self.T_direct:.{_decimals(s.h)}f}; "
+        lines.append(f"direct: {'success' if self.direct_success else 'FAILED'}; T = {self.T_direct:.{_decimals(s.h)}f}; "
                      f"{m['solver']} {self.iterations} iterations; re-simulated miss {self.resim_miss:.1e} "
                      f"(tolerance {self.miss_tol:.0e})")
         lines.append(f"method: {m['transcription']}, N = {m['N']}, integrator {m['integrator']}"

@@ -1,7 +1,8 @@
 """`ocp verify`: every published value beside the suite's own computation of it.
 
 A module that reproduces a paper exposes `reproduce() -> dict[key, Reproduction]`; the keys are
-those of the paper's file in `reference/`. A printed value gets one verdict:
+those of the paper's file in `reference/`. A paper may have several such modules (exact formulas
+in one, claims that need a solve in another). A printed value gets one verdict:
 
     agrees                  every printed digit is reproduced (truncated or rounded as printed)
     rounding of the print   off by one unit in the last printed digit (e.g. rounded, not truncated)
@@ -17,11 +18,11 @@ from decimal import Decimal, ROUND_DOWN, ROUND_HALF_EVEN
 
 from . import references
 
-#: paper id -> module that reproduces it
+#: paper id -> the modules that reproduce it
 REPRODUCERS = {
-    "finch2015": "ocp.analytic",
-    "batista2006": "ocp.scenes.falling",
-    "weinstein_tam": "ocp.scenes.kapitza",
+    "finch2015": ("ocp.analytic", "ocp.examples"),
+    "batista2006": ("ocp.scenes.falling",),
+    "weinstein_tam": ("ocp.scenes.kapitza",),
 }
 
 
@@ -90,11 +91,14 @@ def rows(paper=None):
     out = []
     for pid in [paper] if paper else references.papers():
         published = references.load(pid)
-        module = importlib.import_module(REPRODUCERS[pid])
-        computed = module.reproduce()
-        unknown = set(computed) - set(published)
-        if unknown:
-            raise KeyError(f"{REPRODUCERS[pid]}.reproduce() returns keys not in reference/{pid}.toml: {sorted(unknown)}")
+        computed = {}
+        for name in REPRODUCERS[pid]:
+            part = importlib.import_module(name).reproduce()
+            unknown, twice = set(part) - set(published), set(part) & set(computed)
+            if unknown or twice:
+                raise KeyError(f"{name}.reproduce(): keys not in reference/{pid}.toml {sorted(unknown)}, "
+                               f"or reproduced twice {sorted(twice)}")
+            computed.update(part)
         for key, pub in published.items():
             rep = computed.get(key)
             if rep is None:
@@ -114,7 +118,12 @@ def as_dicts(table):
 
 
 def defended(value, accuracy):
-    """`value` with no more decimals than its absolute `accuracy` supports (at most 16 digits)."""
+    """`value` with no more decimals than its absolute `accuracy` supports (at most 16 digits);
+    6 significant digits, marked, when the accuracy is unknown (NaN)."""
+    if not math.isfinite(accuracy):
+        return f"{value:.6g} (accuracy unknown)"
+    if accuracy == 0 and float(value).is_integer():
+        return str(int(value))
     decimals = 16 if accuracy <= 0 else max(0, math.floor(-math.log10(accuracy)))
     magnitude = math.floor(math.log10(abs(value))) + 1 if value else 1
     return f"{value:.{max(0, min(decimals, 16 - magnitude))}f}"

@@ -93,3 +93,14 @@ def test_no_refine_gives_the_direct_answer():
     sol = ocp.solve(ocp.swing_up(1.0), refine=False)
     assert sol.refined is None and sol.certificate is None and not sol.certified
     assert sol.T == sol.T_direct and "not refined" in sol.verdict
+
+
+def test_a_neighbouring_branch_can_be_the_optimum():
+    """From (0.3, -0.1) at kappa = 0.8 the direct solves reach the upright at +pi in 5.734 (two
+    switches), but going the other way round to -pi takes 4.332 with one switch: the exploration of
+    the neighbouring branch must find it. Reference: the one-switch formula mirrored does not apply
+    (x0 is not (0, 0)); the check is the certificate and the independent re-simulation."""
+    sol = ocp.solve(ocp.swing_up(0.8, x0=(0.3, -0.1)))
+    others = [c.T for c in sol.candidates if c.valid and c.branch == 0]
+    assert sol.refined_branch == -1 and sol.target == (-math.pi, 0.0) and sol.n_switches == 1
+    assert sol.certified and sol.refined_resim_miss < 1e-8 and others and sol.T < min(others) - 1.0

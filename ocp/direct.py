@@ -139,8 +139,10 @@ def _run(tr, problem, guess, miss_tol):
         status = _status(stats)
     except RuntimeError as err:      # a solver that cannot run (e.g. a missing linear solver) fails this start
         w, stats, status = w0, {}, f"solver error: {last_line(err)}"
-    solve_time = time.perf_counter() - start
     i_th, i_om, i_T, i_u = tr.index()
+    if not (np.all(np.isfinite(w)) and w[i_T[0]] > 0):   # e.g. bonmin's NaN or all-zero exit: a failed
+        w, stats, status = w0, {}, f"{status}: the solver returned no usable point (T <= 0 or not finite)"
+    solve_time = time.perf_counter() - start
     T = float(w[i_T[0]])
     t = np.linspace(0.0, T, N + 1)
     x = np.column_stack([w[i_th], w[i_om]])
@@ -153,9 +155,10 @@ def _run(tr, problem, guess, miss_tol):
     if solver_ok and not ok:
         status = f"{status}, but the re-simulated control misses the target by {miss:.1e} > {miss_tol:.0e}"
     method = dict(tr.settings.to_dict(), solver=tr.solver_name, options=tr.options)
-    iterations = stats.get("iter_count", -1)            # bonmin reports NaN
-    return Solution(problem, method, T, t, x, u, branch, ok, status, solver_ok,
-                    int(iterations) if math.isfinite(iterations) else -1, structure.read(t, x, u, problem.kappa), miss, miss_tol,
+    iterations = stats.get("iter_count", -1)
+    iterations = int(iterations) if math.isfinite(iterations) else -1          # bonmin reports NaN
+    return Solution(problem, method, T, t, x, u, branch, ok, status, solver_ok, iterations,
+                    structure.read(t, x, u, problem.kappa), miss, miss_tol,
                     tr.build_time_s, solve_time, solve_time, guess.label)
 
 

@@ -111,3 +111,11 @@ def test_a_solver_that_cannot_run_is_a_recorded_failure():
     """blocksqp needs HSL's ma27, which the CasADi wheel lacks: a failed start, not a crash."""
     sol = ocp.solve(ocp.swing_up(1.0), ocp.MultipleShooting(N=20), solver="blocksqp", refine=False)
     assert sol.success or all(s["status"].startswith("solver error") for s in sol.starts)
+
+
+def test_a_start_that_returns_no_usable_point_is_a_recorded_failure():
+    """bonmin's infeasible exit returns all zeros (T = 0) on one start of kappa = 1/2 at N = 25:
+    that start fails with a reason; the solve returns a Solution."""
+    sol = ocp.solve(ocp.swing_up(0.5), ocp.MultipleShooting(N=25), solver="bonmin", refine=False)
+    assert len(sol.starts) == 3 and sol.T > 0
+    assert all(s["success"] or s["status"] for s in sol.starts)

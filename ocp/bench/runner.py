@@ -23,6 +23,7 @@ import time
 from .. import analytic, pipeline, transcription
 from ..errors import InputError, last_line
 from ..redirect import solver_output
+from ..result import direct_T_accuracy
 from . import peer
 
 #: the direct stage of a reference solve (its structure seeds the refinement)
@@ -97,7 +98,7 @@ def _solve_once(case, method, miss_tol):
 def _fields(sol, size):
     """The stored fields of one solve."""
     d, s = sol.to_dict(), sol.structure
-    accuracy = d["T_error"] if sol.refined else s.h ** 2 / 4
+    accuracy = d["T_error"] if sol.refined else direct_T_accuracy(s.h)
     return {
         "success": sol.success, "solver_success": sol.solver_success, "status": sol.status,
         "iterations": sol.iterations, "T": _num(sol.T), "T_accuracy": _num(accuracy), "T_direct": _num(sol.T_direct),

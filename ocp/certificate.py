@@ -20,7 +20,8 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from .refine import TOL
+from . import model
+from .refine import MAX_STEPS, TOL
 
 SAMPLES = 200
 #: first-order conditions accepted when their residuals are below this (integrator noise ~1e-12)
@@ -57,10 +58,8 @@ class Certificate:
 @lru_cache(maxsize=2)
 def _sampled_flow(samples):
     """State and costate at s = k/samples (k = 1..samples) of an arc scaled to [0, 1] (CVODES, TOL)."""
-    y, u, d, kappa = ca.SX.sym("y", 4), ca.SX.sym("u"), ca.SX.sym("d"), ca.SX.sym("kappa")
-    ode = d * ca.vertcat(y[1], kappa * u - ca.sin(y[0]), y[3] * ca.cos(y[0]), -y[2])
-    return ca.integrator("sampled", "cvodes", {"x": y, "p": ca.vertcat(u, d, kappa), "ode": ode}, 0,
-                         np.linspace(0, 1, samples + 1)[1:], {"abstol": TOL, "reltol": TOL, "max_num_steps": 100000})
+    return ca.integrator("sampled", "cvodes", model.state_costate_dae(), 0, np.linspace(0, 1, samples + 1)[1:],
+                         {"abstol": TOL, "reltol": TOL, "max_num_steps": MAX_STEPS})
 
 
 @lru_cache(maxsize=32)
@@ -68,7 +67,7 @@ def _end_state(n):
     """x(T; d) for n arcs, params (theta0, omega0, kappa, s_1..s_n), by CVODES at TOL."""
     x, u, h, kappa = ca.SX.sym("x", 2), ca.SX.sym("u"), ca.SX.sym("h"), ca.SX.sym("kappa")
     integ = ca.integrator("arc", "cvodes", {"x": x, "p": ca.vertcat(u, h, kappa),
-                                            "ode": h * ca.vertcat(x[1], kappa * u - ca.sin(x[0]))}, 0, 1,
+                                            "ode": h * model.rhs(x, u, kappa)}, 0, 1,
                           {"abstol": TOL, "reltol": TOL, "max_num_steps": 100000})
     d, par = ca.MX.sym("d", n), ca.MX.sym("par", 3 + n)
     xe = par[0:2]
@@ -97,7 +96,7 @@ def certify(refined, x0, kappa):
         inner = s * a[3, 1:-1]
         sign_violation = max(sign_violation, float(np.max(-inner, initial=0.0)) / p2_scale)
         extra_zeros += int(np.sum(np.diff(np.sign(inner)) != 0))
-        H = a[2] * a[1] + a[3] * (kappa * s - np.sin(a[0])) - 1
+        H = model.hamiltonian(a[:2], a[2:], s, kappa)
         h_dev = max(h_dev, float(np.max(np.abs(H))))
     switch_residual = max((abs(y[3]) for y in at_switch), default=0.0) / p2_scale
     slopes = tuple(float(-y[2]) for y in at_switch)

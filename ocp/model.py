@@ -37,15 +37,22 @@ def arc_invariant(x, u, kappa):
 
 
 def hamiltonian(x, p, u, kappa):
-    """Minimum-time Hamiltonian H = 1 + p1*omega + p2*(kappa*u - sin(theta)) (H = 0 on an optimum)."""
+    """Pontryagin's Hamiltonian of minimum time, maximum form: H = p1*omega + p2*(kappa*u - sin(theta)) - 1.
+    An optimal control maximises it (u = sign(p2)) and keeps H = 0 (free final time)."""
     f = rhs(x, u, kappa)
-    return 1 + p[0] * f[0] + p[1] * f[1]
+    return p[0] * f[0] + p[1] * f[1] - 1
 
 
 def costate_rhs(x, p):
     """Adjoint p' = -dH/dx: p1' = p2*cos(theta), p2' = -p1."""
-    theta = x[0]
-    cos = ca.cos if _symbolic(x, p) else np.cos
     if _symbolic(x, p):
-        return ca.vertcat(p[1] * cos(theta), -p[0])
-    return np.array([p[1] * cos(theta), -p[0]])
+        return ca.vertcat(p[1] * ca.cos(x[0]), -p[0])
+    return np.array([p[1] * np.cos(x[0]), -p[0]])
+
+
+def state_costate_dae(sym=ca.SX):
+    """The state-costate system of one bang arc on scaled time s in [0, 1]: y = (theta, omega, p1, p2),
+    parameters (u, d, kappa), y' = d * (f(x, u), -dH/dx); a CasADi integrator's dae dict."""
+    y, u, d, kappa = sym.sym("y", 4), sym.sym("u"), sym.sym("d"), sym.sym("kappa")
+    ode = d * ca.vertcat(rhs(y[:2], u, kappa), costate_rhs(y[:2], y[2:]))
+    return {"x": y, "p": ca.vertcat(u, d, kappa), "ode": ode}

@@ -1,6 +1,6 @@
 """Where compiled solvers print: CasADi's plugins (IPOPT, qpOASES, SUNDIALS...) write to the C file
-descriptors 1 and 2, out of Python's reach. `solver_output(to)` points them elsewhere meanwhile, so
-that stdout holds only the answer (one JSON object with --json)."""
+descriptors 1 and 2, and CasADi's own messages go through Python's sys.stdout. `solver_output(to)`
+points both elsewhere meanwhile, so that stdout holds only the answer (one JSON object with --json)."""
 
 import contextlib
 import ctypes
@@ -10,9 +10,9 @@ import sys
 
 @contextlib.contextmanager
 def solver_output(to):
-    """Descriptors 1 and 2 to `to` ("stderr": both to the terminal's stderr; "devnull": discarded)
-    meanwhile. The C library's buffers are flushed before the descriptors return, or a solver's
-    buffered output (e.g. feasiblesqpmethod's banner) would surface later on the real stdout."""
+    """Descriptors 1 and 2, and Python's sys.stdout, to `to` ("stderr": to stderr; "devnull":
+    discarded) meanwhile. The C library's buffers are flushed before the descriptors return, or a
+    solver's buffered output (e.g. feasiblesqpmethod's banner) would surface later on the real stdout."""
     sys.stdout.flush()
     sys.stderr.flush()
     saved = [os.dup(1), os.dup(2)]
@@ -20,7 +20,9 @@ def solver_output(to):
     os.dup2(sink, 1)
     os.dup2(sink, 2)
     try:
-        yield
+        with open(os.devnull, "w") if to == "devnull" else contextlib.nullcontext(sys.stderr) as python_sink, \
+                contextlib.redirect_stdout(python_sink):
+            yield
     finally:
         sys.stdout.flush()
         sys.stderr.flush()

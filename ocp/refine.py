@@ -34,6 +34,7 @@ import numpy as np
 
 from . import model, simulate
 from .errors import last_line
+from .transcription import rk4_flow
 
 TOL = 1e-14
 TOL_CHECK = 1e-12
@@ -87,10 +88,7 @@ class Refined:
 @lru_cache(maxsize=4)
 def state_costate_flow(tol):
     """Phi(y, u, d, kappa): y = (theta, omega, p1, p2) after time d under constant u (CVODES, tol)."""
-    y, u, d, kappa = ca.SX.sym("y", 4), ca.SX.sym("u"), ca.SX.sym("d"), ca.SX.sym("kappa")
-    theta, omega, p1, p2 = y[0], y[1], y[2], y[3]
-    ode = d * ca.vertcat(omega, kappa * u - ca.sin(theta), p2 * ca.cos(theta), -p1)
-    integ = ca.integrator("Phi", "cvodes", {"x": y, "p": ca.vertcat(u, d, kappa), "ode": ode}, 0, 1,
+    integ = ca.integrator("Phi", "cvodes", model.state_costate_dae(), 0, 1,
                           {"abstol": tol, "reltol": tol, "max_num_steps": MAX_STEPS})
     ys, us, ds, ks = ca.MX.sym("y", 4), ca.MX.sym("u"), ca.MX.sym("d"), ca.MX.sym("kappa")
     return ca.Function("Phi", [ys, us, ds, ks], [integ(x0=ys, p=ca.vertcat(us, ds, ks))["xf"]])
@@ -108,8 +106,8 @@ def _newton(n, tol):
     par = ca.MX.sym("par", 5 + n)
     x0, kappa, s, target = par[0:2], par[2], par[3:3 + n], par[3 + n:5 + n]
     y = ca.vertcat(x0, v[n:])
-    f0 = ca.vertcat(x0[1], kappa * s[0] - ca.sin(x0[0]))
-    h0 = ca.dot(v[n:], f0) - 1
+    f0 = model.rhs(x0, s[0], kappa)
+    h0 = model.hamiltonian(x0, v[n:], s[0], kappa)
     at_switch = []
     for i in range(n):
         y = phi(y, s[i], v[i], kappa)
@@ -137,15 +135,8 @@ def _switching_time_nlp(n, steps):
     d = ca.SX.sym("d", n)
     par = ca.SX.sym("par", 5 + n)
     x, kappa, s, target = par[0:2], par[2], par[3:3 + n], par[3 + n:5 + n]
-    f = lambda x, u: ca.vertcat(x[1], kappa * u - ca.sin(x[0]))
     for i in range(n):
-        h = d[i] / steps
-        for _ in range(steps):
-            k1 = f(x, s[i])
-            k2 = f(x + h / 2 * k1, s[i])
-            k3 = f(x + h / 2 * k2, s[i])
-            k4 = f(x + h * k3, s[i])
-            x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        x = rk4_flow(x, s[i], kappa, d[i], steps)
     nlp = {"x": d, "p": par, "f": ca.sum1(d), "g": x - target}
     return ca.nlpsol("switching_times", "ipopt", nlp, {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
                                                        "ipopt.tol": 1e-10, "ipopt.max_iter": MAX_ITER})
@@ -178,7 +169,7 @@ def costate_guess(x0, signs, durations, kappa):
         y = _trajectory(np.asarray(x0, float), p0, signs, durations, kappa, 1e-10)
         rows.append(y[1:-1, 3])
     base, e1, e2 = rows
-    f0 = np.array([x0[1], kappa * signs[0] - np.sin(x0[0])])
+    f0 = model.rhs(x0, signs[0], kappa)
     A = np.vstack([np.column_stack([e1 - base, e2 - base]), f0])
     b = np.concatenate([-base, [1.0]])
     return np.linalg.lstsq(A, b, rcond=None)[0]

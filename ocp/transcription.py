@@ -99,19 +99,24 @@ def radau_matrices(degree):
     return C
 
 
+def rk4_flow(x, u, kappa, duration, steps):
+    """x after `duration` under constant u: `steps` classical RK4 steps (symbolic or numeric)."""
+    h = duration / steps
+    for _ in range(steps):
+        k1 = model.rhs(x, u, kappa)
+        k2 = model.rhs(x + h / 2 * k1, u, kappa)
+        k3 = model.rhs(x + h / 2 * k2, u, kappa)
+        k4 = model.rhs(x + h * k3, u, kappa)
+        x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return x
+
+
 def interval_map(settings):
     """F(x, u, h, kappa) -> x after time h under constant u, by the chosen integrator."""
     x, u, h, kappa = ca.SX.sym("x", 2), ca.SX.sym("u"), ca.SX.sym("h"), ca.SX.sym("kappa")
     if settings.integrator == "rk4":
-        f = ca.Function("f", [x, u, kappa], [model.rhs(x, u, kappa)])
-        step, xk = h / settings.M, x
-        for _ in range(settings.M):
-            k1 = f(xk, u, kappa)
-            k2 = f(xk + step / 2 * k1, u, kappa)
-            k3 = f(xk + step / 2 * k2, u, kappa)
-            k4 = f(xk + step * k3, u, kappa)
-            xk = xk + step / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-        return ca.Function("F", [x, u, h, kappa], [xk], ["x", "u", "h", "kappa"], ["xf"])
+        return ca.Function("F", [x, u, h, kappa], [rk4_flow(x, u, kappa, h, settings.M)],
+                           ["x", "u", "h", "kappa"], ["xf"])
     p = ca.vertcat(u, h, kappa)
     dae = {"x": x, "p": p, "ode": h * model.rhs(x, u, kappa)}
     if settings.integrator == "collocation":

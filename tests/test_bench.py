@@ -36,7 +36,9 @@ def tiny(tmp_path_factory):
 
 def bench(argv, capsys):
     code = cli.main(["bench", *map(str, argv), "--json"])
-    return code, json.loads(capsys.readouterr().out)
+    captured = capsys.readouterr()
+    assert captured.out.strip(), f"ocp bench exit {code}, no JSON on stdout; stderr: {captured.err[-2000:]}"
+    return code, json.loads(captured.out)
 
 
 def test_suite_expands_lists_and_keys_are_stable(tiny):

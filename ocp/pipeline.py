@@ -3,7 +3,8 @@
     direct multiple shooting  ->  structure (signs, arc durations, branch)
     -> candidates: the structure found; one switch less (first or last arc dropped); one switch
        more (an arc of the opposite sign before or after); the other first sign; the structures
-       of direct solves pinned to the neighbouring target branches k - 1 and k + 1
+       of direct solves pinned to the neighbouring target branches k - 1 and k + 1, and of a
+       direct solve started the other way round (its guess first moves against the first arc)
     -> each refined (`ocp.refine`) and re-simulated independently (`ocp.simulate.arcs`)
     -> the best verified candidate certified (`ocp.certificate`).
 
@@ -84,16 +85,23 @@ def explore(problem, sol, method, solver, options):
     method = method or MultipleShooting()
     found = [(label, signs, d, sol.branch) for label, signs, d in neighbours(sol.structure.arc_signs, _durations(sol))]
     candidates = []
+    solves = []
     if problem.branch is None:
         for k in (sol.branch - 1, sol.branch + 1):
             pinned = Problem(problem.kind, problem.kappa, problem.x0, k)
-            other = direct.solve(pinned, method, solver, options, direct.default_guesses(pinned, method.N)[0])
-            label = f"direct solve to branch {k}"
-            if other.success:
-                found.append((label, other.structure.arc_signs, _durations(other), k))
-            else:
-                candidates.append(Candidate(label, other.structure.arc_signs, k,
-                                            f"no extremal: the direct solve failed ({other.status})", None))
+            solves.append((f"direct solve to branch {k}", pinned, direct.default_guesses(pinned, method.N)[0]))
+    # the other way round: the default guess whose first motion opposes the first arc found
+    straight, backswing, overswing = direct.default_guesses(problem, method.N)
+    towards = sol.structure.first_u * (straight.theta[-1] - straight.theta[0]) > 0
+    solves.append(("direct solve started the other way round", problem, backswing if towards else overswing))
+    for label, pinned, guess in solves:
+        other = direct.solve(pinned, method, solver, options, guess)
+        k = other.branch
+        if other.success:
+            found.append((label, other.structure.arc_signs, _durations(other), k))
+        else:
+            candidates.append(Candidate(label, other.structure.arc_signs, k,
+                                        f"no extremal: the direct solve failed ({other.status})", None))
     for label, signs, d, branch in found:
         c = _candidate(problem, label, signs, d, branch)
         twin = next((o for o in candidates if o.valid and c.valid and o.signs == c.signs and o.branch == c.branch

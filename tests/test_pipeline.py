@@ -76,10 +76,12 @@ def test_three_quarters_examines_the_one_switch_local_solution():
     t_one = [c.T for c in sol.candidates if c.valid and c.signs == (1, -1) and c.branch == 0]
     assert t_one and t_one[0] == pytest.approx(6.5690173615, abs=1e-9)
     assert sol.T < t_one[0] and sol.n_switches == 2
-    # none silently dropped: the structure found, its 5 neighbours, and the 2 neighbouring branches
-    assert len(sol.candidates) == 8 and all(c.valid or c.status.startswith(("no extremal", "misses", "duplicate"))
+    # none silently dropped: the structure found, its 5 neighbours, the 2 neighbouring branches and
+    # the direct solve started the other way round
+    assert len(sol.candidates) == 9 and all(c.valid or c.status.startswith(("no extremal", "misses", "duplicate"))
                                             for c in sol.candidates)
-    assert {c.label for c in sol.candidates} >= {"found", "other first sign", "one switch more (arc before)"}
+    assert {c.label for c in sol.candidates} >= {"found", "other first sign", "one switch more (arc before)",
+                                                 "direct solve started the other way round"}
 
 
 def test_a_failed_given_guess_is_followed_by_the_default_family():

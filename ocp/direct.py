@@ -10,7 +10,6 @@ import math
 import time
 from dataclasses import dataclass
 
-import casadi as ca
 import numpy as np
 
 from . import simulate, structure
@@ -37,7 +36,9 @@ class Guess:
 
     @classmethod
     def from_solution(cls, sol, label="warm start"):
-        return cls(sol.T, tuple(sol.t / sol.T), tuple(sol.x[:, 0]), tuple(sol.x[:, 1]), tuple(sol.u), label)
+        """The direct grid of a Solution (its T_direct: sol.T may be the refined time)."""
+        T = sol.T_direct
+        return cls(T, tuple(sol.t / T), tuple(sol.x[:, 0]), tuple(sol.x[:, 1]), tuple(sol.u), label)
 
     def on_grid(self, N):
         s = np.linspace(0.0, 1.0, N + 1)

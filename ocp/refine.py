@@ -14,11 +14,11 @@ unknowns, the square system
 
 in (d, p(0)) (n + 2 unknowns) is solved by Newton's method, the state and costate integrated by
 CVODES and differentiated by its forward sensitivities: iterations at rtol = atol = TOL_COARSE,
-then polished at TOL. Newton starts from the
-switching-time problem itself solved by IPOPT (d >= 0; RK4 with fixed steps per arc, about
-STEP_ANGLE rad of rotation each, the count rounded up to one of STEP_COUNTS: a
-globalised, moderately accurate first stage) and from p(0) solving the conditions (linear in p(0))
-in least squares along those durations. The Lagrange multiplier of the end constraint is -p(T).
+then polished at TOL. Newton starts from the switching-time problem itself solved by IPOPT
+(d >= 0; RK4 with fixed steps per arc, about STEP_ANGLE rad of rotation each, the count rounded up
+to one of STEP_COUNTS: a globalised, moderately accurate first stage) and from the p(0) that solves
+the conditions (linear in p(0)) in least squares along those durations. The Lagrange multiplier of
+the end constraint is -p(T).
 
 The accuracy of T and of the switch times is estimated (`with_error_estimate`) by solving again at
 TOL_CHECK, from the converged solution, and taking the difference. An arc that the first stage
@@ -221,8 +221,10 @@ def _solve(n, tol, v0, par):
     except RuntimeError as err:
         return v0, float("nan"), -1, f"Newton failed: {last_line(err)}"
     res = float(np.max(np.abs(np.array(residual(v, par)))))
-    if not (res < RESIDUAL_TOL and np.all(v[:n] >= 0)):
+    if not res < RESIDUAL_TOL:
         return v, res, -1, f"Newton did not converge (residual {res:.1e})"
+    if np.any(v[:n] < 0):
+        return v, res, -1, f"Newton converged to a negative arc duration ({np.min(v[:n]):.2e}): not this structure"
     return v, res, int(solver.stats().get("iter_count", -1)), ""
 
 

@@ -15,7 +15,6 @@ that raises, all stored with their status.
 import concurrent.futures as cf
 import contextlib
 import math
-import os
 import statistics
 import sys
 import time

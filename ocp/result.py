@@ -64,8 +64,24 @@ class Solution:
         return self.refined.T if self.refined else self.T_direct
 
     @property
+    def answer_branch(self):
+        """The branch k of the answer: the refined one's where refined, else the direct one's."""
+        return self.refined_branch if self.refined else self.branch
+
+    @property
     def target(self):
-        return self.problem.target(self.refined_branch if self.refined else self.branch)
+        return self.problem.target(self.answer_branch)
+
+    @property
+    def T_error(self):
+        """Error bound of T: the refinement's estimate, or the direct bound h^2/2 (observed)."""
+        return self.refined.T_error if self.refined else direct_T_accuracy(self.structure.h)
+
+    @property
+    def switch_time_error(self):
+        """Error bound of the switch times: the refinement's estimate, or h for a direct answer (O(h^2)
+        for one switch, O(h) for more; observed <= 0.53 h, tests/test_direct.py)."""
+        return self.refined.switch_time_error if self.refined else self.structure.h
 
     @property
     def n_switches(self):
@@ -116,15 +132,17 @@ class Solution:
             "kappa": p.kappa,
             "x0": list(p.x0),
             "target": list(self.target),
-            "branch": self.refined_branch if self.refined else self.branch,
+            "branch": self.answer_branch,
             "branch_pinned": p.branch is not None,
             "T": self.T,
-            "T_error": self.refined.T_error if self.refined else None,
+            "T_error": self.T_error,
+            "error_source": "refinement: the change between two integrator tolerances" if self.refined
+                            else "direct transcription: observed bounds h^2/2 (T) and h (switch times)",
             "n_switches": self.n_switches,
             "first_u": self.first_u,
             "arc_signs": list(self.arc_signs),
             "switch_times": self.switch_times,
-            "switch_time_error": self.refined.switch_time_error if self.refined else None,
+            "switch_time_error": self.switch_time_error,
             "switch_states": [list(x) for x in self.switch_states],
             "success": self.success,
             "status": self.status,
@@ -153,23 +171,25 @@ class Solution:
         """A few lines a person can read."""
         p, s, m = self.problem, self.structure, self.method
         lines = [f"{p.kind}, kappa = {p.kappa:g}, from (theta, omega) = ({p.x0[0]:.6g}, {p.x0[1]:.6g}) "
-                 f"to ({_angle(self.target[0])}, 0)  [branch k = {self.to_dict()['branch']}"
+                 f"to ({_angle(self.target[0])}, 0)  [branch k = {self.answer_branch}"
                  f"{', pinned' if p.branch is not None else ''}]"]
         if self.refined:
-            r = self.refined
-            lines.append(f"T = {defended(r.T, r.T_error)}   (refined; error estimate {r.T_error:.0e}; "
+            lines.append(f"T = {defended(self.T, self.T_error)}   (refined; error estimate {self.T_error:.0e}; "
                          f"independent re-simulation misses the target by {self.refined_resim_miss:.0e})")
-            digits = lambda v: defended(v, r.switch_time_error)
         else:
-            lines.append(f"T = {self.T_direct:.{_decimals(s.h)}f}   (direct transcription: error below h^2/2 observed, "
-                         f"h = {s.h:.2g}; not refined)")
-            digits = lambda v: f"{v:.4f}"
+            lines.append(f"T = {defended(self.T, self.T_error)}   (direct transcription: error below h^2/2 observed, "
+                         f"h = {s.h:.2g}; switch times within h; not refined)")
+        # a state at a switch moves at most |omega| + kappa + 1 per unit of switch-time error
+        state_error = lambda x: self.switch_time_error * (abs(x[1]) + p.kappa + 1)
+        shown = (lambda v, e: defended(v, e)) if self.refined else _plus_minus
         signs = pattern(self.arc_signs)
         lines.append(f"{self.n_switches} switch{'es' if self.n_switches != 1 else ''}, u = {signs}"
                      + ("" if s.bang_bang else f"   (direct control NOT resolved as bang-bang: "
                                                 f"{s.longest_interior_run} interior intervals in a row)"))
         for i, (tau, (th, om)) in enumerate(zip(self.switch_times, self.switch_states), 1):
-            lines.append(f"  switch {i}: t = {digits(tau)}  at (theta, omega) = ({th:.10f}, {om:.10f})")
+            e = state_error((th, om))
+            lines.append(f"  switch {i}: t = {shown(tau, self.switch_time_error)}  at (theta, omega) = "
+                         f"({shown(th, e)}, {shown(om, e)})")
         lines.append(self.verdict)
         if self.certificate:
             c = self.certificate
@@ -179,7 +199,8 @@ class Solution:
         for c in self.candidates:
             T = "-" if c.T is None else f"{c.T:.10f}"
             lines.append(f"  candidate {pattern(c.signs):<18} branch {c.branch:+d}  T = {T:<14} {c.status}  [{c.label}]")
-        lines.append(f"direct: {'success' if self.direct_success else 'FAILED'}; T = {self.T_direct:.{_decimals(s.h)}f}; "
+        lines.append(f"direct: {'success' if self.direct_success else 'FAILED'}; "
+                     f"T = {defended(self.T_direct, direct_T_accuracy(s.h))}; "
                      f"{m['solver']} {self.iterations} iterations; re-simulated miss {self.resim_miss:.1e} "
                      f"(tolerance {self.miss_tol:.0e})")
         lines.append(f"method: {m['transcription']}, N = {m['N']}, integrator {m['integrator']}"
@@ -204,6 +225,7 @@ def direct_T_accuracy(h):
     return h * h / 2
 
 
-def _decimals(h):
-    """Decimals of a direct T worth printing: half a unit of the last one covers direct_T_accuracy."""
-    return max(1, min(8, math.floor(-math.log10(2 * direct_T_accuracy(h)))))
+def _plus_minus(value, error):
+    """value +- error, the value to the decimal of the error's first digit."""
+    decimals = max(0, math.ceil(-math.log10(error)))
+    return f"{value:.{decimals}f} +- {error:.1g}"

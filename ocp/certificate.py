@@ -68,7 +68,7 @@ def _end_state(n):
     x, u, h, kappa = ca.SX.sym("x", 2), ca.SX.sym("u"), ca.SX.sym("h"), ca.SX.sym("kappa")
     integ = ca.integrator("arc", "cvodes", {"x": x, "p": ca.vertcat(u, h, kappa),
                                             "ode": h * model.rhs(x, u, kappa)}, 0, 1,
-                          {"abstol": TOL, "reltol": TOL, "max_num_steps": 100000})
+                          {"abstol": TOL, "reltol": TOL, "max_num_steps": MAX_STEPS})
     d, par = ca.MX.sym("d", n), ca.MX.sym("par", 3 + n)
     xe = par[0:2]
     for i in range(n):
@@ -103,25 +103,16 @@ def certify(refined, x0, kappa):
     strict = all(slope * (signs[j + 1] - signs[j]) > 0 for j, slope in enumerate(slopes))
     first_order = sign_violation == 0.0 and extra_zeros == 0 and switch_residual < FIRST_ORDER_TOL \
         and h_dev < FIRST_ORDER_TOL
-    eig = _reduced_hessian_eigenvalues(refined, x0, kappa)
+    eig = _reduced_hessian_eigenvalues(refined, x0, kappa, p_T=y[2:])      # y: the state-costate at T
     return Certificate(sign_violation, float(switch_residual), extra_zeros, slopes, strict, h_dev,
                        eig, first_order, bool(np.all(np.array(eig) > 0)))
 
 
-def _reduced_hessian_eigenvalues(refined, x0, kappa):
+def _reduced_hessian_eigenvalues(refined, x0, kappa, p_T):
     n = len(refined.signs)
     if n <= 2:
         return ()
-    p_T = _final_costate(refined, x0, kappa)
     _, J, H = _end_state(n)(refined.durations, np.concatenate([x0, [kappa], refined.signs]), -p_T)
     J, H = np.array(J), np.array(H)
     Z = np.linalg.svd(J)[2][2:].T                  # orthonormal basis of the null space of J
     return tuple(float(v) for v in np.linalg.eigvalsh(Z.T @ H @ Z))
-
-
-def _final_costate(refined, x0, kappa):
-    flow = _sampled_flow(SAMPLES)
-    y = np.concatenate([x0, refined.p0])
-    for s, d in zip(refined.signs, refined.durations):
-        y = np.array(flow(x0=y, p=[s, d, kappa])["xf"])[:, -1]
-    return y[2:]

@@ -114,15 +114,37 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
         guesses = [guess]
     else:
         raise InputError(f"guess must be None, an ocp Guess or an ocp Solution, not {type(guess).__name__}")
-    runs = [_run(transcription, problem, g, miss_tol) for g in guesses]
+    best = best_of([_run(transcription, problem, g, miss_tol) for g in guesses])
+    best.build_time_s = transcription.build_time_s
+    best.total_time_s = time.perf_counter() - start
+    return best
+
+
+def best_of(runs):
+    """The best of the Solutions of several starts (verified first, then converged, then the
+    shortest T), with every start recorded in its `starts` and their solve times summed."""
     best = min(runs, key=lambda r: (not r.success, not r.solver_success, r.T if math.isfinite(r.T) else math.inf))
     best.starts = [{"guess": r.guess, "success": r.success, "status": r.status, "T": r.T,
                     "n_switches": r.n_switches, "iterations": r.iterations, "solve_time_s": r.solve_time_s}
                    for r in runs]
-    best.build_time_s = transcription.build_time_s
     best.solve_time_s = sum(r.solve_time_s for r in runs)
-    best.total_time_s = time.perf_counter() - start
     return best
+
+
+def verified(problem, method, t, x, u, solver_ok, status, iterations, miss_tol, build_time_s, solve_time_s, guess,
+             branch=None):
+    """The Solution of a direct answer (grid t, node states x, control u): the branch reached (the
+    nearest to theta_N unless given), and the control re-simulated independently; success needs
+    the solver's success and a miss within miss_tol."""
+    branch = problem.nearest_branch(x[-1, 0]) if branch is None else branch
+    final = simulate.piecewise(problem.x0, t, u, problem.kappa)[-1]
+    miss = float(np.hypot(*(final - np.array(problem.target(branch)))))
+    ok = solver_ok and miss <= miss_tol
+    if solver_ok and not ok:
+        status = f"{status}, but the re-simulated control misses the target by {miss:.1e} > {miss_tol:.0e}"
+    return Solution(problem, method, float(t[-1]), t, x, u, branch, ok, status, solver_ok, iterations,
+                    structure.read(t, x, u, problem.kappa), miss, miss_tol, build_time_s, solve_time_s,
+                    solve_time_s, guess)
 
 
 def _run(tr, problem, guess, miss_tol):
@@ -144,23 +166,13 @@ def _run(tr, problem, guess, miss_tol):
     if not (np.all(np.isfinite(w)) and w[i_T[0]] > 0):   # e.g. bonmin's NaN or all-zero exit: a failed
         w, stats, status = w0, {}, f"{status}: the solver returned no usable point (T <= 0 or not finite)"
     solve_time = time.perf_counter() - start
-    T = float(w[i_T[0]])
-    t = np.linspace(0.0, T, N + 1)
+    t = np.linspace(0.0, float(w[i_T[0]]), N + 1)
     x = np.column_stack([w[i_th], w[i_om]])
-    u = np.clip(w[i_u], -1.0, 1.0)
-    branch = problem.nearest_branch(x[-1, 0]) if problem.branch is None else problem.branch
-    final = simulate.piecewise(problem.x0, t, u, problem.kappa)[-1]
-    miss = float(np.hypot(*(final - np.array(problem.target(branch)))))
-    solver_ok = bool(stats.get("success", False))
-    ok = solver_ok and miss <= miss_tol
-    if solver_ok and not ok:
-        status = f"{status}, but the re-simulated control misses the target by {miss:.1e} > {miss_tol:.0e}"
     method = dict(tr.settings.to_dict(), solver=tr.solver_name, options=tr.options)
     iterations = stats.get("iter_count", -1)
     iterations = int(iterations) if math.isfinite(iterations) else -1          # bonmin reports NaN
-    return Solution(problem, method, T, t, x, u, branch, ok, status, solver_ok, iterations,
-                    structure.read(t, x, u, problem.kappa), miss, miss_tol,
-                    tr.build_time_s, solve_time, solve_time, guess.label)
+    return verified(problem, method, t, x, np.clip(w[i_u], -1.0, 1.0), bool(stats.get("success", False)), status,
+                    iterations, miss_tol, tr.build_time_s, solve_time, guess.label, problem.branch)
 
 
 def _status(stats):

@@ -50,9 +50,9 @@ def costate_rhs(x, p):
     return np.array([p[1] * np.cos(x[0]), -p[0]])
 
 
-def state_costate_dae(sym=ca.SX):
+def state_costate_dae():
     """The state-costate system of one bang arc on scaled time s in [0, 1]: y = (theta, omega, p1, p2),
     parameters (u, d, kappa), y' = d * (f(x, u), -dH/dx); a CasADi integrator's dae dict."""
-    y, u, d, kappa = sym.sym("y", 4), sym.sym("u"), sym.sym("d"), sym.sym("kappa")
+    y, u, d, kappa = ca.SX.sym("y", 4), ca.SX.sym("u"), ca.SX.sym("d"), ca.SX.sym("kappa")
     ode = d * ca.vertcat(rhs(y[:2], u, kappa), costate_rhs(y[:2], y[2:]))
     return {"x": y, "p": ca.vertcat(u, d, kappa), "ode": ode}

@@ -7,15 +7,13 @@ transcribed once per call (rockit has no cache across calls), and that is its bu
 """
 
 import importlib.util
-import math
 import time
 
 import casadi as ca
 import numpy as np
 
-from .. import direct, simulate, structure
+from .. import direct
 from ..errors import last_line
-from ..result import Solution
 
 MISSING = "rockit is not installed (pip install 'ocp[peer]', i.e. rockit-meco): its runs are skipped"
 
@@ -64,9 +62,7 @@ def solve(problem, method, guess=None, miss_tol=direct.MISS_TOL):
         for var, values, n in zip(nodes, (g.T, *g.on_grid(method.N)), (1, method.N + 1, method.N + 1, method.N)):
             opti.set_initial(var[:, :n], values)
         runs.append(_run(oc, (theta, omega, u), problem, method, g, miss_tol, build_time))
-    best = min(runs, key=lambda r: (not r.success, not r.solver_success, r.T if math.isfinite(r.T) else math.inf))
-    best.starts = [{"guess": r.guess, "success": r.success, "status": r.status, "T": r.T} for r in runs]
-    best.solve_time_s = sum(r.solve_time_s for r in runs)
+    best = direct.best_of(runs)
     best.total_time_s = time.perf_counter() - start
     return best, (opti.nx, opti.ng)
 
@@ -81,18 +77,9 @@ def _run(oc, variables, problem, method, guess, miss_tol, build_time):
         sol, stats = oc.non_converged_solution, {"return_status": f"not converged: {last_line(err)}"}
     solve_time = time.perf_counter() - start
     stats = dict(oc._method.opti.stats(), **stats)
-    T = float(sol.value(oc.T))
-    t = np.linspace(0.0, T, method.N + 1)
+    t = np.linspace(0.0, float(sol.value(oc.T)), method.N + 1)
     x = np.column_stack([sol.sample(theta, grid="control")[1], sol.sample(omega, grid="control")[1]])
-    uu = np.clip(sol.sample(u, grid="control")[1][:-1], -1.0, 1.0)
-    branch = problem.nearest_branch(x[-1, 0])
-    end = simulate.piecewise(problem.x0, t, uu, problem.kappa)[-1]
-    miss = float(np.hypot(*(end - np.array(problem.target(branch)))))
-    solver_ok = bool(stats.get("success", False))
-    status = str(stats.get("return_status"))
-    if solver_ok and miss > miss_tol:
-        status = f"{status}, but the re-simulated control misses the target by {miss:.1e} > {miss_tol:.0e}"
     info = dict(method.to_dict(), transcription="rockit multiple shooting", integrator="rk")
-    return Solution(problem, info, T, t, x, uu, branch, solver_ok and miss <= miss_tol, status, solver_ok,
-                    int(stats.get("iter_count", -1)), structure.read(t, x, uu, problem.kappa), miss, miss_tol,
-                    build_time, solve_time, solve_time, guess.label)
+    return direct.verified(problem, info, t, x, np.clip(sol.sample(u, grid="control")[1][:-1], -1.0, 1.0),
+                           bool(stats.get("success", False)), str(stats.get("return_status")),
+                           int(stats.get("iter_count", -1)), miss_tol, build_time, solve_time, guess.label)

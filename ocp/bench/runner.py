@@ -22,7 +22,6 @@ import time
 from .. import analytic, pipeline, transcription
 from ..errors import InputError, last_line
 from ..redirect import solver_output
-from ..result import direct_T_accuracy
 from . import peer
 
 #: the direct stage of a reference solve (its structure seeds the refinement)
@@ -90,17 +89,16 @@ def _solve_once(case, method, miss_tol):
         return peer.solve(problem, method, guess, miss_tol)
     transcription.clear_cache()               # a cold build every repeat
     sol = pipeline.solve(problem, method.settings(), method.solver, method.options, guess, miss_tol, method.refine)
-    built = transcription.build(method.settings(), method.solver, method.options, free_branch=True)
+    built = transcription.build(method.settings(), method.solver, method.options, free_branch=problem.branch is None)
     return sol, (built.n_w, built.n_g)
 
 
 def _fields(sol, size):
     """The stored fields of one solve."""
     d, s = sol.to_dict(), sol.structure
-    accuracy = d["T_error"] if sol.refined else direct_T_accuracy(s.h)
     return {
         "success": sol.success, "solver_success": sol.solver_success, "status": sol.status,
-        "iterations": sol.iterations, "T": _num(sol.T), "T_accuracy": _num(accuracy), "T_direct": _num(sol.T_direct),
+        "iterations": sol.iterations, "T": _num(sol.T), "T_accuracy": _num(d["T_error"]), "T_direct": _num(sol.T_direct),
         "branch": d["branch"], "n_switches": sol.n_switches, "arc_signs": list(sol.arc_signs),
         "switch_times": [float(t) for t in sol.switch_times], "bang_bang": s.bang_bang,
         "longest_interior_run": s.longest_interior_run, "resim_miss": _num(d["resim_miss"]),

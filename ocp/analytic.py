@@ -403,10 +403,12 @@ class Crosscheck:
     max_deviation: float
 
 
-def crosscheck(result):
+def crosscheck(result, branch=None):
     """Crosscheck of a solved result (attributes problem, branch, n_switches, first_u, switch_times,
-    switch_states, T) against formula_for its problem, branch and structure; None where none applies."""
-    bb = formula_for(result.problem, result.branch, result.n_switches, result.first_u)
+    switch_states, T) against formula_for its problem, branch (`branch` if given, else
+    result.branch) and structure; None where none applies."""
+    branch = result.branch if branch is None else branch
+    bb = formula_for(result.problem, branch, result.n_switches, result.first_u)
     if bb is None:
         return None
     times = tuple(t - a for t, a in zip(result.switch_times, bb.switch_times))

@@ -6,7 +6,8 @@
        of direct solves pinned to the neighbouring target branches k - 1 and k + 1, and of a
        direct solve started the other way round (its guess first moves against the first arc)
     -> each refined (`ocp.refine`) and re-simulated independently (`ocp.simulate.arcs`)
-    -> the best verified candidate certified (`ocp.certificate`).
+    -> the best verified candidate certified (`ocp.certificate`)
+    -> the answer cross-checked against Finch's one- or two-switch formula where one applies.
 
 A candidate whose arc collapses to zero length is recorded as such; failures stay in the list.
 "Best of K candidate structures" is what the result claims; global optimality is never claimed.
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import direct, simulate
+from . import analytic, direct, simulate
 from .certificate import certify
 from .problems import Problem
 from .transcription import MultipleShooting
@@ -136,8 +137,7 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
         fallback.solve_time_s += sol.solve_time_s
         sol = fallback
     if not refine or not sol.solver_success:
-        sol.total_time_s = time.perf_counter() - start
-        return sol
+        return _finished(sol, start)
     refine_start = time.perf_counter()
     sol.candidates = explore(problem, sol, method, solver, options)
     best = sol.candidates[0]
@@ -152,5 +152,13 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
                           f"the direct solve: {sol.status}")
         sol.certificate = certify(sol.refined, x0, problem.kappa)
     sol.refine_time_s = time.perf_counter() - refine_start
+    return _finished(sol, start)
+
+
+def _finished(sol, start):
+    """`sol` with its cross-check against the analytic formula of its structure, where one applies
+    (`ocp.analytic.crosscheck`), and its total time."""
+    if sol.success:
+        sol.crosscheck = analytic.crosscheck(sol, sol.answer_branch)
     sol.total_time_s = time.perf_counter() - start
     return sol

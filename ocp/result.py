@@ -25,7 +25,9 @@ class Solution:
     After `ocp.solve` with refinement: `refined` (an `ocp.refine.Refined`, the best candidate),
     `certificate` (`ocp.certificate.Certificate`), `candidates` (every structure examined),
     `refined_resim_miss` (the refined arcs re-simulated by the same independent integrator). T,
-    n_switches, first_u, switch_times and switch_states are then the refined values.
+    n_switches, first_u, switch_times and switch_states are then the refined values. `crosscheck`:
+    the answer against the analytic formula of its structure, where one applies
+    (`ocp.analytic.Crosscheck`), else None.
     """
 
     problem: Problem
@@ -54,6 +56,7 @@ class Solution:
     candidates: list = field(default_factory=list)
     refine_time_s: float = 0.0
     direct_success: bool | None = None
+    crosscheck: object = None
 
     def __post_init__(self):
         if self.direct_success is None:
@@ -165,6 +168,10 @@ class Solution:
             out["refinement"] = self.refined.to_dict()
             out["certificate"] = self.certificate.to_dict()
         out["candidates"] = [c.to_dict() for c in self.candidates]
+        x = self.crosscheck
+        out["crosscheck"] = None if x is None else {
+            "formula": x.formula, "max_deviation": x.max_deviation, "T": x.T, "switch_times": list(x.switch_times),
+            "switch_states": [list(v) for v in x.switch_states], "formula_error": x.analytic.error}
         return out
 
     def summary(self):
@@ -191,6 +198,9 @@ class Solution:
             lines.append(f"  switch {i}: t = {shown(tau, self.switch_time_error)}  at (theta, omega) = "
                          f"({shown(th, e)}, {shown(om, e)})")
         lines.append(self.verdict)
+        if self.crosscheck:
+            lines.append(f"  cross-check: {self.crosscheck.formula}: largest deviation "
+                         f"{self.crosscheck.max_deviation:.0e} (formula error {self.crosscheck.analytic.error:.0e})")
         if self.certificate:
             c = self.certificate
             lines.append(f"  residuals: p2 at switches {c.switch_residual:.0e}, |H| <= {c.hamiltonian_deviation:.0e}, "

@@ -44,6 +44,9 @@ def test_solve_json_has_the_documented_keys():
     assert proc.returncode == 0
     out = json.loads(proc.stdout)
     assert JSON_KEYS <= set(out) and out["success"] and out["n_switches"] == 1 and out["first_u"] == -1
+    # the direct answer against the one-switch formula: within its stated bounds (T: h^2/2)
+    assert out["crosscheck"]["formula"].startswith("one-switch damping")
+    assert abs(out["crosscheck"]["T"]) <= out["T_error"]
 
 
 def test_solve_human_output_with_refinement():

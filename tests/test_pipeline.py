@@ -68,6 +68,7 @@ def test_two_switch_swing_up_matches_the_addendum(kappa):
     assert sol.switch_times == pytest.approx(list(ref.switch_times), rel=REL)
     assert np.allclose(sol.switch_states, ref.switch_states, rtol=0, atol=1e-9)
     assert sol.certified and len(sol.certificate.reduced_hessian_eigenvalues) == 1
+    assert sol.crosscheck.formula.startswith("two-switch") and sol.crosscheck.max_deviation < 1e-9
 
 
 def test_three_quarters_examines_the_one_switch_local_solution():
@@ -106,6 +107,7 @@ def test_a_neighbouring_branch_can_be_the_optimum():
     others = [c.T for c in sol.candidates if c.valid and c.branch == 0]
     assert sol.refined_branch == -1 and sol.target == (-math.pi, 0.0) and sol.n_switches == 1
     assert sol.certified and sol.refined_resim_miss < 1e-8 and others and sol.T < min(others) - 1.0
+    assert sol.crosscheck is None                     # no formula from this start
 
 
 def test_warm_start_from_a_refined_solution_uses_its_direct_grid():

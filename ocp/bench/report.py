@@ -15,8 +15,8 @@
 
 The best known optimum of a problem is the smaller of its reference T and the T of any verified
 refined run of the right structure; a run reaches it when it succeeds with the right structure and
-T - T_best <= its own accuracy (h^2/2 for a direct answer, ocp.result.direct_T_accuracy, the error estimate when refined) plus
-the reference's.
+T - T_best <= its own accuracy (`Solution.T_error`: h^2/2 for a direct answer, the error estimate
+when refined) plus the reference's.
 """
 
 import math

@@ -1,110 +1,169 @@
-"""The result of a solve, in the spirit of `scipy.optimize.OptimizeResult`."""
+"""The result of `ocp.solve`, built once (`ocp.solving.solve`), in the spirit of scipy's
+`OptimizeResult`: a status code with a message table, `success` derived from it.
 
+    Solution.status           SolveStatus: how the answer was obtained and what it proves
+    Solution.direct_class     DirectClass: the direct transcription's answer against the search's
+"""
+
+import enum
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-import numpy as np
-
-from .problems import Problem
-from .verify import defended
-from .structure import Structure, pattern
+from .core.numbers import digits, order, plus_minus
+from .core.problem import Problem
+from .direct.structure import pattern
 
 
-@dataclass
+class SolveStatus(enum.IntEnum):
+    OPTIMAL = 0
+    BEST_FOUND = 1
+    DIRECT_ONLY = 2
+    NO_EXTREMAL = -1
+    NOT_VERIFIED = -2
+    DIRECT_FAILED = -3
+
+
+STATUS_MESSAGES = {
+    SolveStatus.OPTIMAL: "globally optimal: the least time among all extremals that reach the target set before "
+                         "the horizon, by a complete scan of the costate angle",
+    SolveStatus.BEST_FOUND: "the least time among the extremals found; the scan left intervals unresolved, so "
+                            "global optimality is not proved",
+    SolveStatus.DIRECT_ONLY: "the direct transcription's answer, its control verified by re-simulation; not compared "
+                             "with the extremals, so optimality is unknown",
+    SolveStatus.NO_EXTREMAL: "no extremal reaches the target set before the largest horizon",
+    SolveStatus.NOT_VERIFIED: "the best extremal misses the target when re-simulated independently",
+    SolveStatus.DIRECT_FAILED: "the direct transcription found no verified answer (and no search was asked for)",
+}
+
+
+class DirectClass(enum.IntEnum):
+    """The direct answer against the search's: the first class that applies."""
+
+    OPTIMUM = 0
+    INACCURATE = 1
+    LOCAL_OPTIMUM = 2
+    WRONG_STRUCTURE = 3
+    CHATTERING = 4
+    MISSES_TARGET = 5
+    NOT_CONVERGED = 6
+    SOLVER_ERROR = 7
+
+
+DIRECT_MESSAGES = {
+    DirectClass.OPTIMUM: "the optimum: the structure and branch of an optimal extremal, T within its stated bound",
+    DirectClass.INACCURATE: "the optimal structure, but T outside its stated bound",
+    DirectClass.LOCAL_OPTIMUM: "another extremal, slower than the optimum: a local optimum",
+    DirectClass.WRONG_STRUCTURE: "a structure that no extremal found by the search has",
+    DirectClass.CHATTERING: "the control is not resolved as bang-bang (chattering or an interior run)",
+    DirectClass.MISSES_TARGET: "the solver converged, but its control misses the target when re-simulated",
+    DirectClass.NOT_CONVERGED: "the NLP solver did not converge",
+    DirectClass.SOLVER_ERROR: "the NLP solver raised an error or returned no usable point",
+}
+
+
+@dataclass(frozen=True)
 class Solution:
     """A minimum-time solution and how it was obtained.
 
-    The direct solution: T_direct, the time grid t (N+1), node states x (N+1, 2), the piecewise-
-    constant control u (N), its `structure`, and `branch` (the k of the target reached). success:
-    the NLP solver converged AND the control re-simulated by an independent tight integrator
-    (scipy DOP853, rtol = atol = 1e-12) lands within `miss_tol` of the target (`resim_miss`, the
-    Euclidean distance in (theta, omega)); a transcription can report a time below the optimum
-    with a control that misses the target, and that is a failure. starts: every initial guess
-    tried, with its outcome.
-
-    After `ocp.solve` with refinement: `refined` (an `ocp.refine.Refined`, the best candidate),
-    `certificate` (`ocp.certificate.Certificate`), `candidates` (every structure examined),
-    `refined_resim_miss` (the refined arcs re-simulated by the same independent integrator). T,
-    n_switches, first_u, switch_times and switch_states are then the refined values. `crosscheck`:
-    the answer against the analytic formula of its structure, where one applies
-    (`ocp.analytic.Crosscheck`), else None.
+    problem        the Problem solved (its `reading`: the circle or the plane)
+    status         SolveStatus; `success` is status >= 0, `message` its text, `optimal` True,
+                   False (never: a worse answer is not returned) or None (unknown)
+    answer         the optimal extremal (`ocp.indirect.Extremal`: signs, durations, T, switch times
+                   and states, branch, p(0), error estimates), None without a search
+    ties           other extremals with the same T within their accuracy (mirror images, other
+                   branches): every optimal control
+    runner_up      the fastest extremal slower than the optimum (None if none before the horizon)
+    extremals      every extremal the search solved, fastest first
+    coverage       what the scan covered (`ocp.indirect.Coverage`)
+    resim_miss     the answer's arcs re-simulated by scipy's DOP853 (rtol = atol = 1e-12): their
+                   distance from the target in (theta, omega)
+    certificate    first- and second-order conditions checked independently (`ocp.indirect.Certificate`)
+    crosscheck     the answer against Finch's formula of its structure, where one applies
+    direct         the direct transcription's answer (`ocp.direct.DirectSolution`), if one was asked for
+    direct_class   DirectClass of it against the search, None without both
+    notes          what the search said on its way (horizons tried)
+    search_time_s, certificate_time_s, direct_time_s, total_time_s
     """
 
     problem: Problem
-    method: dict
-    T_direct: float
-    t: np.ndarray
-    x: np.ndarray
-    u: np.ndarray
-    branch: int
-    success: bool
-    status: str
-    solver_success: bool
-    iterations: int
-    structure: Structure
-    resim_miss: float
-    miss_tol: float
-    build_time_s: float
-    solve_time_s: float
+    status: SolveStatus
+    answer: object
+    ties: tuple
+    runner_up: object
+    extremals: tuple
+    coverage: object
+    resim_miss: float | None
+    certificate: object
+    crosscheck: object
+    direct: object
+    direct_class: DirectClass | None
+    notes: tuple
+    search_time_s: float
+    certificate_time_s: float
+    direct_time_s: float
     total_time_s: float
-    guess: str
-    starts: list = field(default_factory=list)
-    refined: object = None
-    refined_branch: int | None = None
-    refined_resim_miss: float | None = None
-    certificate: object = None
-    candidates: list = field(default_factory=list)
-    refine_time_s: float = 0.0
-    direct_success: bool | None = None
-    crosscheck: object = None
 
-    def __post_init__(self):
-        if self.direct_success is None:
-            self.direct_success = self.success
+    @property
+    def success(self):
+        return self.status >= 0
 
+    @property
+    def message(self):
+        return STATUS_MESSAGES[self.status]
+
+    @property
+    def optimal(self):
+        return True if self.status == SolveStatus.OPTIMAL else None
+
+    @property
+    def from_search(self):
+        return self.answer is not None
+
+    # the answer's numbers: from the search where there is one, else from the direct solve
     @property
     def T(self):
-        return self.refined.T if self.refined else self.T_direct
-
-    @property
-    def answer_branch(self):
-        """The branch k of the answer: the refined one's where refined, else the direct one's."""
-        return self.refined_branch if self.refined else self.branch
-
-    @property
-    def target(self):
-        return self.problem.target(self.answer_branch)
+        return self.answer.T if self.answer else (self.direct.T if self.direct else math.nan)
 
     @property
     def T_error(self):
-        """Error bound of T: the refinement's estimate, or the direct bound h^2/2 (observed)."""
-        return self.refined.T_error if self.refined else direct_T_accuracy(self.structure.h)
+        """Error estimate of T (the search's two tolerances), the direct bound (None where none is
+        stated), or None for a failure."""
+        if not self.success:
+            return None
+        return self.answer.T_error if self.answer else self.direct.T_bound
 
     @property
-    def switch_time_error(self):
-        """Error bound of the switch times: the refinement's estimate, or h for a direct answer (O(h^2)
-        for one switch, O(h) for more; observed <= 0.53 h, tests/test_direct.py)."""
-        return self.refined.switch_time_error if self.refined else self.structure.h
+    def branch(self):
+        return self.answer.branch if self.answer else (self.direct.branch if self.direct else None)
 
     @property
-    def n_switches(self):
-        return self.refined.n_switches if self.refined else self.structure.n_switches
-
-    @property
-    def first_u(self):
-        return self.refined.first_u if self.refined else self.structure.first_u
-
-    @property
-    def switch_times(self):
-        return list(self.refined.switch_times if self.refined else self.structure.switch_times)
-
-    @property
-    def switch_states(self):
-        return [tuple(s) for s in (self.refined.switch_states if self.refined else self.structure.switch_states)]
+    def target(self):
+        return None if self.branch is None else self.problem.target(self.branch)
 
     @property
     def arc_signs(self):
-        return tuple(self.refined.signs if self.refined else self.structure.arc_signs)
+        return tuple(self.answer.signs) if self.answer else (self.direct.structure.arc_signs if self.direct else ())
+
+    @property
+    def n_switches(self):
+        return max(len(self.arc_signs) - 1, 0)
+
+    @property
+    def switch_times(self):
+        return tuple(self.answer.switch_times) if self.answer else (
+            tuple(self.direct.structure.switch_times) if self.direct else ())
+
+    @property
+    def switch_time_error(self):
+        """The search's estimate, or h for a direct answer (its switch located within an interval)."""
+        if not self.success:
+            return None
+        return self.answer.switch_time_error if self.answer else self.direct.structure.h
+
+    @property
+    def switch_states(self):
+        return tuple(self.answer.switch_states) if self.answer else (
+            tuple(self.direct.structure.switch_states) if self.direct else ())
 
     @property
     def certified(self):
@@ -114,128 +173,123 @@ class Solution:
     def verdict(self):
         """What this result is, in one sentence."""
         if not self.success:
-            return f"no solution: {self.status}"
-        if self.refined is None:
-            return ("direct solution, not refined" if not self.candidates
-                    else "direct solution; no candidate structure could be refined")
-        valid = sum(c.valid for c in self.candidates)
-        best = f"best of {valid} extremal{'s' if valid != 1 else ''} among {len(self.candidates)} candidate structures"
-        if self.certified:
-            return f"certified extremal (Pontryagin first- and second-order conditions hold), {best}; global optimality not proved"
-        c = self.certificate
-        failed = [name for name, ok in (("first-order", c.first_order), ("strict bang-bang", c.strict_bang_bang),
-                                        ("second-order", c.second_order)) if not ok]
-        return f"refined, NOT certified ({', '.join(failed)} check failed), {best}"
+            return f"no solution: {self.message}"
+        if self.answer is None:
+            return self.message
+        if self.answer.solved == "exact":
+            return "the start is on the target: T = 0, no control needed"
+        text = self.message + f" ({self.coverage.describe()})"
+        if self.ties:
+            text += f"; {len(self.ties) + 1} optimal controls tie"
+        if self.runner_up is not None:
+            gap = self.runner_up.T - self.answer.T
+            text += (f"; the runner-up extremal takes {digits(self.runner_up.T, self.runner_up.T_error)} "
+                     f"({100 * gap / self.answer.T:.3g} % slower)")
+        else:
+            text += "; no other extremal before the horizon"
+        return text
 
     def to_dict(self):
         """Plain JSON-ready data: the keys of `ocp solve --json`."""
-        p, s = self.problem, self.structure
+        p = self.problem
         out = {
-            "problem": p.kind,
-            "kappa": p.kappa,
-            "x0": list(p.x0),
-            "target": list(self.target),
-            "branch": self.answer_branch,
-            "branch_pinned": p.branch is not None,
-            "T": self.T,
-            "T_error": self.T_error,
-            "error_source": "refinement: the change between two integrator tolerances" if self.refined
-                            else "direct transcription: observed bounds h^2/2 (T) and h (switch times)",
-            "n_switches": self.n_switches,
-            "first_u": self.first_u,
-            "arc_signs": list(self.arc_signs),
-            "switch_times": self.switch_times,
-            "switch_time_error": self.switch_time_error,
-            "switch_states": [list(x) for x in self.switch_states],
-            "success": self.success,
-            "status": self.status,
-            "refined": self.refined is not None,
-            "certified": self.certified,
+            "problem": p.kind, "kappa": p.kappa, "x0": list(p.x0), "reading": p.reading,
+            "branch_pinned": p.branch, "success": self.success, "status": self.status.name.lower(),
+            "message": self.message, "optimal": "unknown" if self.optimal is None else self.optimal,
             "verdict": self.verdict,
-            "solver": self.method["solver"],
-            "method": self.method,
-            "iterations": self.iterations,
-            "build_time_s": self.build_time_s,
-            "solve_time_s": self.solve_time_s,
-            "refine_time_s": self.refine_time_s,
-            "total_time_s": self.total_time_s,
-            "resim_miss": self.refined_resim_miss if self.refined else self.resim_miss,
-            "miss_tol": self.miss_tol,
-            "direct": {"success": self.direct_success, "T": self.T_direct, "branch": self.branch, "structure": s.to_dict(), "resim_miss": self.resim_miss,
-                       "guess": self.guess, "starts": self.starts},
         }
-        if self.refined is not None:
-            out["refinement"] = self.refined.to_dict()
-            out["certificate"] = self.certificate.to_dict()
-        out["candidates"] = [c.to_dict() for c in self.candidates]
+        if self.success:
+            out.update({
+                "T": self.T, "T_error": self.T_error,
+                "error_source": ("the change of T between two integration accuracies of the search" if self.answer
+                                 else "the direct transcription's measured bound h^2/2 (none where not measured)"),
+                "branch": self.branch, "target": list(self.target), "n_switches": self.n_switches,
+                "arc_signs": list(self.arc_signs), "switch_times": list(self.switch_times),
+                "switch_time_error": self.switch_time_error,
+                "switch_states": [list(x) for x in self.switch_states], "resim_miss": self.resim_miss,
+            })
+        if self.answer is not None:
+            out.update({
+                "ties": [t.to_dict() for t in self.ties],
+                "runner_up": None if self.runner_up is None else self.runner_up.to_dict(),
+                "extremals": [e.to_dict() for e in self.extremals],
+                "coverage": None if self.coverage is None else self.coverage.to_dict(),
+                "certificate": None if self.certificate is None else self.certificate.to_dict(),
+            })
         x = self.crosscheck
         out["crosscheck"] = None if x is None else {
             "formula": x.formula, "max_deviation": x.max_deviation, "T": x.T, "switch_times": list(x.switch_times),
             "switch_states": [list(v) for v in x.switch_states], "formula_error": x.analytic.error}
+        out["direct"] = None if self.direct is None else dict(
+            self.direct.to_dict(), classified=None if self.direct_class is None else self.direct_class.name.lower(),
+            classification=None if self.direct_class is None else DIRECT_MESSAGES[self.direct_class],
+            T_minus_optimum=None if self.answer is None or not self.direct.converged else self.direct.T - self.answer.T)
+        out["notes"] = list(self.notes)
+        out.update(search_time_s=self.search_time_s, certificate_time_s=self.certificate_time_s,
+                   direct_time_s=self.direct_time_s, total_time_s=self.total_time_s)
         return out
 
     def summary(self):
-        """A few lines a person can read."""
-        p, s, m = self.problem, self.structure, self.method
-        lines = [f"{p.kind}, kappa = {p.kappa:g}, from (theta, omega) = ({p.x0[0]:.6g}, {p.x0[1]:.6g}) "
-                 f"to ({_angle(self.target[0])}, 0)  [branch k = {self.answer_branch}"
-                 f"{', pinned' if p.branch is not None else ''}]"]
-        if self.refined:
-            lines.append(f"T = {defended(self.T, self.T_error)}   (refined; error estimate {self.T_error:.0e}; "
-                         f"independent re-simulation misses the target by {self.refined_resim_miss:.0e})")
+        """A few lines a person can read: the failure first if it failed."""
+        p = self.problem
+        lines = [p.describe()]
+        if not self.success:
+            lines.append(f"NO SOLUTION: {self.message}")
+            lines += [f"  {n}" for n in self.notes]
+            if self.direct is not None:
+                lines.append(self._direct_line())
+            return "\n".join(lines)
+        target = self.problem.target(self.branch)
+        lines.append(f"reached ({target[0]:.10g}, 0), branch k = {self.branch}")
+        if self.answer is not None:
+            lines.append(f"T = {digits(self.T, self.T_error)}   (error estimate {order(self.T_error)}; the control "
+                         f"re-simulated independently misses the target by {order(self.resim_miss)})")
         else:
-            lines.append(f"T = {defended(self.T, self.T_error)}   (direct transcription: error below h^2/2 observed, "
-                         f"h = {s.h:.2g}; switch times within h; not refined)")
-        # a state at a switch moves at most |omega| + kappa + 1 per unit of switch-time error
-        state_error = lambda x: self.switch_time_error * (abs(x[1]) + p.kappa + 1)
-        shown = (lambda v, e: defended(v, e)) if self.refined else _plus_minus
-        signs = pattern(self.arc_signs)
-        lines.append(f"{self.n_switches} switch{'es' if self.n_switches != 1 else ''}, u = {signs}"
-                     + ("" if s.bang_bang else f"   (direct control NOT resolved as bang-bang: "
-                                                f"{s.longest_interior_run} interior intervals in a row)"))
+            bound = self.direct.T_bound
+            lines.append(f"T = {plus_minus(self.T, bound) if bound else digits(self.T, None)}   (direct transcription, "
+                         f"{'error below h^2/2 as measured' if bound else 'no error bound measured for this method'}; "
+                         f"optimal: unknown)")
+        lines.append(f"{self.n_switches} switch{'es' if self.n_switches != 1 else ''}, u = {pattern(self.arc_signs)}")
+        e = self.switch_time_error
+        shown = digits if self.answer is not None else plus_minus
         for i, (tau, (th, om)) in enumerate(zip(self.switch_times, self.switch_states), 1):
-            e = state_error((th, om))
-            lines.append(f"  switch {i}: t = {shown(tau, self.switch_time_error)}  at (theta, omega) = "
-                         f"({shown(th, e)}, {shown(om, e)})")
+            # a state at a switch moves at most |omega| + kappa + 1 per unit of switch-time error
+            es = e * (abs(om) + p.kappa + 1)
+            lines.append(f"  switch {i}: t = {shown(tau, e)}  at (theta, omega) = ({shown(th, es)}, {shown(om, es)})")
         lines.append(self.verdict)
+        for t in self.ties:
+            lines.append(f"  tie: u = {pattern(t.signs)} to branch {t.branch}, T = {digits(t.T, t.T_error)}")
         if self.crosscheck:
             lines.append(f"  cross-check: {self.crosscheck.formula}: largest deviation "
-                         f"{self.crosscheck.max_deviation:.0e} (formula error {self.crosscheck.analytic.error:.0e})")
+                         f"{order(self.crosscheck.max_deviation)} (formula error {order(self.crosscheck.analytic.error)})")
         if self.certificate:
             c = self.certificate
-            lines.append(f"  residuals: p2 at switches {c.switch_residual:.0e}, |H| <= {c.hamiltonian_deviation:.0e}, "
-                         f"sign(p2) = u everywhere: {c.sign_violation == 0 and c.extra_zeros == 0}, "
-                         f"reduced Hessian eigenvalues {[float(f'{e:.3g}') for e in c.reduced_hessian_eigenvalues]}")
-        for c in self.candidates:
-            T = "-" if c.T is None else f"{c.T:.10f}"
-            lines.append(f"  candidate {pattern(c.signs):<18} branch {c.branch:+d}  T = {T:<14} {c.status}  [{c.label}]")
-        lines.append(f"direct: {'success' if self.direct_success else 'FAILED'}; "
-                     f"T = {defended(self.T_direct, direct_T_accuracy(s.h))}; "
-                     f"{m['solver']} {self.iterations} iterations; re-simulated miss {self.resim_miss:.1e} "
-                     f"(tolerance {self.miss_tol:.0e})")
-        lines.append(f"method: {m['transcription']}, N = {m['N']}, integrator {m['integrator']}"
-                     + {"cvodes": f" (tol {m.get('tol', 0):g})", "radau": f" (degree {m.get('degree')})"}.get(
-                         m["integrator"], f" (M = {m.get('M')})")
-                     + f"; guess {self.guess} (best of {len(self.starts)} starts)"
-                     f"; build {self.build_time_s:.2f} s, solve {self.solve_time_s:.2f} s, "
-                     f"refine {self.refine_time_s:.2f} s, total {self.total_time_s:.2f} s")
+            eig = ", ".join(digits(v, c.eigenvalue_error) for v in c.reduced_hessian_eigenvalues) or "none (one switch)"
+            lines.append(f"  certificate ({'holds' if c.certified else 'FAILS'}): p2 at switches {order(c.switch_residual)}, "
+                         f"|H| <= {order(c.hamiltonian_deviation)}, u = sign(p2) everywhere: "
+                         f"{c.sign_violation == 0 and c.extra_zeros == 0}, reduced Hessian eigenvalues: {eig}")
+        for x in self.extremals[:6]:
+            lines.append(f"  extremal u = {pattern(x.signs):<18} branch {x.branch:+d}  T = {digits(x.T, x.T_error)}")
+        if len(self.extremals) > 6:
+            lines.append(f"  ... {len(self.extremals) - 6} more extremals (--json lists them)")
+        if self.direct is not None:
+            lines.append(self._direct_line())
+        lines.append(f"time: search {self.search_time_s:.3f} s, certificate {self.certificate_time_s:.3f} s, "
+                     f"direct {self.direct_time_s:.3f} s, total {self.total_time_s:.3f} s")
         return "\n".join(lines)
 
-
-def _angle(theta):
-    k = theta / math.pi
-    return f"{round(k)}*pi" if abs(k - round(k)) < 1e-12 and round(k) not in (0, 1) else (
-        "pi" if abs(k - 1) < 1e-12 else "0" if k == 0 else f"{theta:.6g}")
-
-
-def direct_T_accuracy(h):
-    """The error bound of a direct T on grid spacing h: h^2/2. The switch interval's fractional
-    control acts as a located switch, so the error is O(h^2); measured over N = 25..800 on the
-    paper's four cases, |T - T*| / h^2 stays below 0.35 (tests/test_direct.py). Observed, not proved."""
-    return h * h / 2
+    def _direct_line(self):
+        d = self.direct
+        head = f"direct: {d.method['transcription']} {describe_method(d.method)}, {d.method['solver']}: {d.message}"
+        if d.converged:
+            bound = f" +- {d.T_bound:.1g}" if d.T_bound else " (no error bound measured)"
+            head += f"; T = {d.T:.6g}{bound}, {d.structure.n_switches} switches, re-simulated miss {d.resim_miss:.1e}"
+        if self.direct_class is not None:
+            head += f"\n  classified: {self.direct_class.name.lower().replace('_', ' ')} ({DIRECT_MESSAGES[self.direct_class]})"
+        return head
 
 
-def _plus_minus(value, error):
-    """value +- error, the value to the decimal of the error's first digit."""
-    decimals = max(0, math.ceil(-math.log10(error)))
-    return f"{value:.{decimals}f} +- {error:.1g}"
+def describe_method(method):
+    """The settings of a direct method record, in one parenthesis."""
+    skip = {"transcription", "solver", "options"}
+    return "(" + ", ".join(f"{k} = {v}" for k, v in method.items() if k not in skip) + ")"

@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from ocp import analytic, problems, references, verify
+from ocp.core import problem as problems
+from ocp.exact import finch as analytic
+from ocp.papers import finch2015, references, verify
 
 mp.mp.dps = 30
 ODE = dict(method="DOP853", rtol=1e-13, atol=1e-13)
@@ -48,13 +50,12 @@ def test_every_printed_value_is_reproduced_or_explained():
     assert not [r.key for r in table if r.verdict == "disagrees"]
     wrong = {r.key for r in table if r.verdict == "the paper is wrong"}
     assert wrong == {"t_inf_two_switch_kappa_3_4"}  # 5.8397 printed, 5.83992946706 computed
-    exact = set(analytic.reproduce())           # the formulas; ocp.examples reproduces the rest by solving
+    solved_keys = {"n_one", "n_half", "n_three_quarters", "n_damping_one", "reshmin_damping_switches",
+                   "reshmin_damping_gain"}                # by ocp.solve; the rest by the formulas
     for r in table:
-        if r.key in exact:
+        if r.computed is not None and r.key not in solved_keys:
             assert r.accuracy < 1e-12 * max(1.0, abs(r.computed))
-    solved = {r.key: r for r in table if r.computed is not None and r.key not in exact}
-    assert set(solved) == {"n_one", "n_half", "n_three_quarters", "n_damping_one", "reshmin_damping_switches",
-                           "reshmin_damping_gain"}
+    solved = {r.key: r for r in table if r.key in solved_keys}
     assert all(r.verdict == "agrees" and r.accuracy < 1e-6 for r in solved.values())
 
 
@@ -171,7 +172,7 @@ def test_stationarity_is_the_derivative_of_the_three_arc_time(rho):
 
 def test_two_switch_time_against_shooting():
     """Printed t_inf,2 (5.8397...) against DOP853 shooting minimised over t1 (no quadrature)."""
-    T, _, x = analytic.shooting_time(0.75, (0.9, 1.1))
+    T, _, x = finch2015.shooting_time(0.75, (0.9, 1.1))
     assert np.allclose(x, (math.pi, 0.0), atol=1e-9)
     assert analytic.two_switch("swing-up", 0.75).T == pytest.approx(T, abs=1e-9)
     assert T - printed("t_inf_two_switch_kappa_3_4") > 2e-4
@@ -207,27 +208,26 @@ def test_gibbs_constant():
 
 # --- crosscheck --------------------------------------------------------------------------------------
 
-def result_of(bb, problem, branch, nudge=0.0):
-    return SimpleNamespace(problem=problem, branch=branch, n_switches=bb.n_switches, first_u=bb.first_u,
-                           switch_times=[t + nudge for t in bb.switch_times], switch_states=list(bb.switch_states),
-                           T=bb.T)
+def extremal_of(bb, branch, nudge=0.0):
+    signs = tuple(bb.first_u * (-1) ** i for i in range(bb.n_switches + 1))
+    return SimpleNamespace(branch=branch, signs=signs, switch_times=[t + nudge for t in bb.switch_times],
+                           switch_states=list(bb.switch_states), T=bb.T)
 
 
 def test_crosscheck_of_the_formula_itself_and_a_nudge():
     p = problems.swing_up(1.0)
     bb = analytic.one_switch("swing-up", 1.0)
-    assert analytic.crosscheck(result_of(bb, p, 0)).max_deviation == 0
-    check = analytic.crosscheck(result_of(bb, p, 0, nudge=1e-6))
+    assert analytic.crosscheck(p, extremal_of(bb, 0)).max_deviation == 0
+    check = analytic.crosscheck(p, extremal_of(bb, 0, nudge=1e-6))
     assert check.max_deviation == pytest.approx(1e-6) and check.formula.startswith("one-switch swing-up")
 
 
 def test_crosscheck_mirror_images():
     """Swing-up to -pi (branch -1) and damping from -pi are theta -> -theta images."""
     up = analytic.one_switch("swing-up", 1.0)
-    mirrored = SimpleNamespace(problem=problems.swing_up(1.0), branch=-1, n_switches=1, first_u=-1,
-                               switch_times=list(up.switch_times),
+    mirrored = SimpleNamespace(branch=-1, signs=(-1, 1), switch_times=list(up.switch_times),
                                switch_states=[(-up.switch_states[0][0], -up.switch_states[0][1])], T=up.T)
-    assert analytic.crosscheck(mirrored).max_deviation == 0
+    assert analytic.crosscheck(problems.swing_up(1.0), mirrored).max_deviation == 0
     two = analytic.formula_for(problems.damping(0.5, (-math.pi, 0.0)), 0, 2, +1)
     assert np.allclose(fly(two), (0.0, 0.0), atol=1e-9)
 
@@ -236,8 +236,7 @@ def test_crosscheck_where_no_formula_applies():
     bb = analytic.one_switch("swing-up", 1.0)
     for problem, branch in ((problems.swing_up(1.0, (0.1, 0.0)), 0),  # other start
                             (problems.swing_up(1.0), 1)):  # target 3 pi
-        assert analytic.crosscheck(result_of(bb, problem, branch)) is None
-    assert analytic.crosscheck(result_of(bb, problems.swing_up(0.5), 0)) is None  # kappa below 0.7246
-    three = SimpleNamespace(problem=problems.swing_up(0.5), branch=0, n_switches=3, first_u=1,
-                            switch_times=[1, 2, 3], switch_states=[(0, 0)] * 3, T=4)
-    assert analytic.crosscheck(three) is None
+        assert analytic.crosscheck(problem, extremal_of(bb, branch)) is None
+    assert analytic.crosscheck(problems.swing_up(0.5), extremal_of(bb, 0)) is None  # kappa below 0.7246
+    three = SimpleNamespace(branch=0, signs=(1, -1, 1, -1), switch_times=[1, 2, 3], switch_states=[(0, 0)] * 3, T=4)
+    assert analytic.crosscheck(problems.swing_up(0.5), three) is None

@@ -8,8 +8,9 @@ import pytest
 
 from ocp.cli import main
 
-JSON_KEYS = {"problem", "kappa", "x0", "target", "T", "n_switches", "first_u", "switch_times", "switch_states",
-             "success", "status", "solver", "iterations", "solve_time_s", "build_time_s", "resim_miss"}
+JSON_KEYS = {"problem", "kappa", "x0", "reading", "target", "branch", "T", "T_error", "n_switches", "arc_signs",
+             "switch_times", "switch_time_error", "switch_states", "success", "status", "message", "optimal",
+             "verdict", "resim_miss", "crosscheck", "direct", "total_time_s"}
 
 
 def run(*args):
@@ -18,15 +19,28 @@ def run(*args):
 
 @pytest.mark.parametrize("args, says", [
     (["solve", "swing-up", "--kappa", "-1"], "kappa"),
+    (["solve", "swing-up", "--kappa", "-1e-3"], "kappa"),
+    (["solve", "swing-up", "--kappa", "1", "--x0", "-1e-3", "1e9"], "omega0"),
+    (["solve", "swing-up", "--kappa", "1", "--branch", "9" * 400], "branch"),
+    (["solve", "swing-up", "--kappa", "1", "--branch", "1000000000"], "branch"),
+    (["solve", "swing-up", "--kappa", "1", "--N", "100"], "--direct"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--N", "1000000"], "N"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--M", "1000000"], "M"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--degree", "3"], "degree"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--transcription", "direct-collocation",
+      "--integrator", "rk4"], "integrator"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--option", "ipopt.output_file=/tmp/x"], "output_file"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--option", "jit=true"], "jit"),
     (["solve", "swing-up", "--kappa", "nan"], "not finite"),
     (["solve", "swing-up", "--kappa", "inf"], "not finite"),
-    (["solve", "swing-up", "--kappa", "1", "--N", "1"], "N = 1"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--N", "1"], "N = '1'"),
     (["solve", "pendulum", "--kappa", "1"], "swing-up, damping"),
-    (["solve", "swing-up", "--kappa", "1", "--solver", "nosuch"], "ipopt"),
-    (["solve", "swing-up", "--kappa", "1", "--integrator", "euler"], "rk4, cvodes, collocation"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--solver", "nosuch"], "ipopt"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--integrator", "euler"], "rk4, collocation, cvodes"),
     (["solve", "swing-up", "--kappa", "1", "--x0", "1"], "--x0"),
     (["solve", "swing-up", "--kappa", "1", "--x0", "a", "0"], "theta0"),
-    (["solve", "swing-up", "--kappa", "1", "--option", "ipopt.nosuch=1"], "nosuch"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--option", "ipopt.nosuch=1"], "nosuch"),
+    (["verify", "--paper", ""], "accepted"),
 ])
 def test_bad_input_is_one_line_and_exit_2(args, says, capsys):
     assert main(args) == 2
@@ -43,21 +57,37 @@ def test_solve_json_has_the_documented_keys():
     proc = run("solve", "damping", "--kappa", "1", "--json", "--no-refine")
     assert proc.returncode == 0
     out = json.loads(proc.stdout)
-    assert JSON_KEYS <= set(out) and out["success"] and out["n_switches"] == 1 and out["first_u"] == -1
-    # the direct answer against the one-switch formula: within its stated bounds (T: h^2/2)
+    assert JSON_KEYS <= set(out) and out["success"] and out["n_switches"] == 1 and out["arc_signs"] == [-1, 1]
+    assert out["optimal"] == "unknown" and out["status"] == "direct_only"
+    # the direct answer against the one-switch formula: within its stated bound (T: h^2/2)
     assert out["crosscheck"]["formula"].startswith("one-switch damping")
     assert abs(out["crosscheck"]["T"]) <= out["T_error"]
 
 
-def test_solve_human_output_with_refinement():
+def test_solve_human_output():
     proc = run("solve", "swing-up", "--kappa", "1")
     assert proc.returncode == 0
-    assert "T = 4.03001868" in proc.stdout and "certified extremal" in proc.stdout
-    assert "1 switch, u = +1 -1" in proc.stdout
+    assert "T = 4.03001868798975" in proc.stdout and "globally optimal" in proc.stdout
+    assert "1 switch, u = +1 -1" in proc.stdout and "certificate (holds)" in proc.stdout
 
 
-def test_failed_solve_exits_1_and_json_still_says_so():
-    proc = run("solve", "swing-up", "--kappa", "1", "--json", "--option", "ipopt.max_iter=2")
+def test_negative_numbers_in_e_notation_are_numbers():
+    proc = run("solve", "swing-up", "--kappa", "1", "--x0", "-1e-3", "0", "--json")
+    assert proc.returncode == 0 and json.loads(proc.stdout)["x0"] == [-0.001, 0.0]
+
+
+def test_failed_solve_says_so_first_and_exits_1():
+    proc = run("solve", "swing-up", "--kappa", "1", "--no-refine", "--option", "ipopt.max_iter=2")
     assert proc.returncode == 1
+    lines = proc.stdout.splitlines()
+    assert lines[1].startswith("NO SOLUTION") and "T =" not in proc.stdout and "+-" not in proc.stdout
+    proc = run("solve", "swing-up", "--kappa", "1", "--json", "--no-refine", "--option", "ipopt.max_iter=2")
     out = json.loads(proc.stdout)
-    assert out["success"] is False and out["status"]
+    assert proc.returncode == 1 and out["success"] is False and out["status"] == "direct_failed" and "T" not in out
+
+
+def test_a_direct_stage_is_classified_against_the_search():
+    proc = run("solve", "swing-up", "--kappa", "0.8", "--x0", "0.3", "-0.1", "--direct", "--json")
+    out = json.loads(proc.stdout)
+    assert proc.returncode == 0 and out["branch"] == -1 and out["optimal"] is True
+    assert out["direct"]["classified"] == "local_optimum" and out["direct"]["branch"] == 0

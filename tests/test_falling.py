@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.special import ellipkinc
 
-from ocp import references, verify
+from ocp.papers import references, verify
 from ocp.scenes import falling
 
 

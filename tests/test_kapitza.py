@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.special import mathieu_a, mathieu_b
 
-from ocp import verify
+from ocp.papers import verify
 from ocp.scenes import kapitza
 
 

@@ -6,9 +6,10 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from ocp import model, swing_up, damping, MultipleShooting
-from ocp.errors import InputError
-from ocp.problems import Problem, make
+from ocp import MultipleShooting, damping, swing_up
+from ocp.core import model
+from ocp.core.errors import InputError
+from ocp.core.problem import Problem, make
 
 
 @pytest.mark.parametrize("kappa", [0, -1, float("nan"), float("inf"), "abc", None])
@@ -30,7 +31,7 @@ def test_unknown_problem_and_bad_branch():
         swing_up(1.0, branch=0.5)
 
 
-@pytest.mark.parametrize("kwargs, match", [({"N": 1}, "N"), ({"N": 2.5}, "N"), ({"integrator": "euler"}, "rk4, cvodes"),
+@pytest.mark.parametrize("kwargs, match", [({"N": 1}, "N"), ({"N": 2.5}, "N"), ({"integrator": "euler"}, "rk4, collocation, cvodes"),
                                            ({"M": 0}, "M"), ({"tol": 0.0}, "tol")])
 def test_bad_method_settings(kwargs, match):
     with pytest.raises(InputError, match=match):

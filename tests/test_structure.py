@@ -4,7 +4,8 @@ reading is known by construction)."""
 import numpy as np
 import pytest
 
-from ocp import structure, simulate
+from ocp.core import simulate
+from ocp.direct import structure
 
 KAPPA = 1.0
 

@@ -11,7 +11,7 @@ charts from a store alone.
 import time
 from pathlib import Path
 
-from ..errors import InputError, finite
+from ..core.errors import InputError, finite
 from . import report as report_module
 from . import runner, suite as suite_module
 from .environment import environment
@@ -41,8 +41,7 @@ def add_commands(sub):
 
 
 def run_bench(args):
-    from ..cli import _print_json
-    from ..redirect import solver_output
+    from ..core.output import print_json, solver_output
 
     suite = suite_module.load(args.suite)
     try:
@@ -75,7 +74,7 @@ def run_bench(args):
         "failures": report_module.failure_table(records), "environment": env,
     }
     if args.json:
-        _print_json(summary)
+        print_json(summary)
         return 0
     for note in result["notes"]:
         print(f"note: {note}")
@@ -88,7 +87,7 @@ def run_bench(args):
 
 
 def run_report(args):
-    from ..cli import _print_json
+    from ..core.output import print_json
 
     formats = tuple(f.strip() for f in args.format.split(",") if f.strip())
     bad = [f for f in formats if f not in ("png", "pdf", "svg")]
@@ -102,7 +101,7 @@ def run_report(args):
     out = Path(args.out) if args.out else store.with_name(store.stem + "-report")
     tables = report_module.report(store, out, budget, accuracy, formats)
     if args.json:
-        _print_json(tables)
+        print_json(tables)
         return 0
     print(report_module.summary_markdown(tables))
     print("written: " + ", ".join(tables["files"]))

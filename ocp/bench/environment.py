@@ -9,7 +9,8 @@ from pathlib import Path
 
 import casadi as ca
 
-from ..transcription import INTEGRATORS, available_solvers
+from ..direct import INTEGRATORS
+from ..direct.nlp import available_solvers
 
 #: distributions whose versions are recorded (absent ones are recorded as None)
 PACKAGES = ("ocp", "casadi", "numpy", "scipy", "matplotlib", "rockit-meco", "dask", "distributed")

@@ -13,10 +13,10 @@
                         time budget (`budget` seconds); rho(tau) = share of cases whose cost is
                         within tau times the best family's
 
-The best known optimum of a problem is the smaller of its reference T and the T of any verified
-refined run of the right structure; a run reaches it when it succeeds with the right structure and
-T - T_best <= its own accuracy (`Solution.T_error`: h^2/2 for a direct answer, the error estimate
-when refined) plus the reference's.
+The best known optimum of a problem is its reference T (the complete search's optimum, or Finch's
+formula where one applies); a run reaches it when its outcome is "ok" or "inaccurate" (the optimal
+structure) and T - T_best <= its stated error (`T_error`: h^2/2 for a direct answer where measured,
+the search's estimate) plus the reference's.
 """
 
 import math
@@ -27,18 +27,18 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import plotting
+from ..core import plotting
 from .store import Store, to_csv, to_json
 
 GOOD = ("ok", "inaccurate")     # converged to the right structure (accurate or not)
 
 
 def best_known(records):
-    """{problem: best known T}: the reference, or a verified refined run of the right structure below it."""
+    """{problem: best known T}: the reference, or an ok run of the extremal search below it."""
     best = {}
     for r in records:
         candidates = [r["T_ref"]] if r["T_ref"] is not None else []
-        if r.get("refined") and r["outcome"] == "ok":
+        if r["family"] == "extremal search" and r["outcome"] == "ok":
             candidates.append(r["T"])
         if candidates:
             best[r["problem"]] = min(candidates + [best.get(r["problem"], math.inf)])
@@ -50,7 +50,7 @@ def reached(r, best):
     T_best = best.get(r["problem"])
     if T_best is None or r["outcome"] not in GOOD:
         return False
-    return r["T"] - T_best <= r["T_accuracy"] + (r["T_ref_error"] or 0.0)
+    return r["T"] - T_best <= (r["T_error"] or 0.0) + (r["T_ref_error"] or 0.0)
 
 
 def _rate(flags):
@@ -75,7 +75,7 @@ def method_table(records, best):
             "right structure": _rate(r["outcome"] in GOOD for r in runs),
             "reached optimum": _rate(reached(r, best) for r in runs),
             "reached optimum (random guesses)": _rate(reached(r, best) for r in random),
-            "median |T - T_ref|": _median([abs(r["T_error"]) for r in runs if r["outcome"] in GOOD], ".1e"),
+            "median |T - T_ref|": _median([abs(r["T_minus_ref"]) for r in runs if r["outcome"] in GOOD], ".1e"),
             "median total time (s)": _median([r["total_time_s"] for r in runs if r["outcome"] != "build error"], ".3f"),
         })
     return rows
@@ -132,7 +132,7 @@ def work_precision(records, out_dir, formats):
                 failed = len(fr) - len(good)
                 note = f"  ({failed} failed)" if failed else ""
                 if good:
-                    ax.plot([r["total_time_s"] for r in good], [max(abs(r["T_error"]), 1e-16) for r in good],
+                    ax.plot([r["total_time_s"] for r in good], [max(abs(r["T_minus_ref"]), 1e-16) for r in good],
                             "o-", ms=3, label=family + note)
                 elif failed:
                     ax.plot([], [], "x", label=family + f"  (all {failed} failed)")
@@ -154,9 +154,9 @@ def profile_costs(records, budget_s, accuracy):
     for family, runs in _by(records, "family").items():
         for case in cases:
             good = [r for r in runs if r["case"] == case and r["outcome"] in GOOD]
-            costs[("time", family)][case] = min((r["total_time_s"] for r in good if abs(r["T_error"]) <= accuracy),
+            costs[("time", family)][case] = min((r["total_time_s"] for r in good if abs(r["T_minus_ref"]) <= accuracy),
                                                 default=math.inf)
-            costs[("error", family)][case] = min((max(abs(r["T_error"]), 1e-15) for r in good
+            costs[("error", family)][case] = min((max(abs(r["T_minus_ref"]), 1e-15) for r in good
                                                   if r["total_time_s"] <= budget_s), default=math.inf)
     return costs
 

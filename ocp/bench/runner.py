@@ -1,15 +1,19 @@
 """Running a suite: references, then every (case, method) pair, through one executor interface.
 
-    reference(case)                the best known answer of a problem, and where it comes from
-    measure(case, method, ...)     one pair solved `repeats` times from scratch: the outcome and the
-                                   median build, solve, refinement and total times
-    score(record, reference, ...)  the errors against the reference and the outcome class
+    reference(case)                the optimum of the case's problem, from ocp.solve's complete
+                                   search of extremals (independent of every direct method scored),
+                                   replaced by Finch's formula where one applies and agrees
+    measure(case, method, ...)     one pair solved `repeats` times, each cold (every cache of built
+                                   objects cleared, `ocp.core.cache.clear`): the outcome and the
+                                   median build, solve and total times
+    score(record, reference, ...)  T - T_ref, and the outcome class
     run(suite, store, executor)    all of it, row by row into the store, with a progress bar
 
-Workers receive plain data (`Case`, `Method`) and rebuild the NLP; every repeat clears the
-transcription's build cache, so each timing is of a cold solve and does not depend on which
-worker ran what before. Failures are rows: a plugin that cannot load, a build error, a solver
-that raises, all stored with their status.
+A direct method is classified against the search (`ocp.solving.classify`); the search itself is
+scored against the formula where one applies, else its optimum is the reference of its own case
+and the record says so ("the search scores itself there"). Workers receive plain data (`Case`,
+`Method`) and rebuild everything. Failures are rows: a plugin that cannot load, a build error, a
+solver that raises, all stored with their status.
 """
 
 import concurrent.futures as cf
@@ -18,19 +22,22 @@ import math
 import statistics
 import sys
 import time
+from types import SimpleNamespace
 
-from .. import analytic, pipeline, transcription
-from ..errors import InputError, last_line
-from ..redirect import solver_output
+from .. import direct
+from ..core import cache
+from ..core.errors import InputError, last_line
+from ..core.output import solver_output
+from ..result import DirectClass
+from ..solving import classify, solve
 from . import peer
+from .suite import PEER, SEARCH
 
-#: the direct stage of a reference solve (its structure seeds the refinement)
-REFERENCE_METHOD = transcription.MultipleShooting(100)
-#: a formula and the refinement agree when their T differ by less than this
-AGREE = 1e-8
-#: outcome classes, in the order they are tested (the first that applies names a row)
-OUTCOMES = ("ok", "build error", "solver error", "time limit", "no convergence", "misses target", "chattering",
-            "local optimum", "wrong structure", "inaccurate", "no reference")
+#: a formula and the search agree when their T differ by less than this
+AGREE = 1e-9
+#: outcome classes (DirectClass names, and what precedes a classification)
+OUTCOMES = ("ok", "build error", "time limit", *(c.name.lower().replace("_", " ") for c in DirectClass
+                                                   if c != DirectClass.OPTIMUM), "no reference")
 
 
 def _num(x):
@@ -40,89 +47,91 @@ def _num(x):
 
 # --- references ---------------------------------------------------------------------------------
 
-def _signs(bb):
-    return [bb.first_u * (-1) ** i for i in range(bb.n_switches + 1)]
-
-
 def reference(case):
-    """The reference of case.problem(): `ocp.solve` with refinement and certificate (direct stage
-    REFERENCE_METHOD), and the exact formulas where one applies (`ocp.analytic.formula_for`, one
-    or two switches, on the branch the refinement reached): a formula of the same switch count and
-    T within AGREE replaces the refined values (exact to its own error bound); a formula faster
-    than the refinement replaces it too (the refinement found a local optimum), and the record
-    says so. `source` names where the numbers come from."""
+    """The reference of case.problem(): the search's optimum (its ties and every extremal found, for
+    classifying direct answers), with T and switch times from Finch's formula where one applies to
+    its structure and agrees within AGREE. `source` says which."""
     problem = case.problem()
     start = time.perf_counter()
     try:
-        with solver_output("devnull"):
-            sol = pipeline.solve(problem, REFERENCE_METHOD)
+        sol = solve(problem)
     except Exception as err:        # noqa: BLE001  (no reference is a recorded fact, not a crash)
-        return {"problem": case.problem_key, "T": None, "T_error": None, "arc_signs": None, "switch_times": None,
-                "branch": None, "source": f"none: the reference solve raised {type(err).__name__}: {last_line(err)}",
+        return {"problem": case.problem_key, "T": None, "T_error": None, "source":
+                f"none: the search raised {type(err).__name__}: {last_line(err)}", "time_s": time.perf_counter() - start}
+    if not sol.success or sol.answer is None:
+        return {"problem": case.problem_key, "T": None, "T_error": None, "source": f"none: {sol.message}",
                 "time_s": time.perf_counter() - start}
-    rec = {"problem": case.problem_key, "refined_T": _num(sol.T) if sol.refined else None, "certified": sol.certified,
-           "T": None, "T_error": None, "arc_signs": None, "switch_times": None, "branch": None, "source": "none"}
-    if sol.refined:
-        rec.update(T=sol.T, T_error=sol.refined.T_error, arc_signs=list(sol.arc_signs), switch_times=sol.switch_times,
-                   branch=sol.refined_branch,
-                   source="certified refinement" if sol.certified else "refinement, NOT certified")
-    branch = sol.refined_branch if sol.refined else problem.guess_branch
-    formulas = [analytic.formula_for(problem, branch, n, first) for n in (1, 2) for first in (1, -1)]
-    for bb in filter(None, formulas):
-        same = sol.refined is not None and bb.n_switches == sol.n_switches and abs(bb.T - sol.T) < AGREE
-        if same or rec["T"] is None or bb.T < rec["T"] - AGREE:
-            note = (f"agrees with the {rec['source']} to {abs(bb.T - sol.T):.0e}" if same else
-                    "faster than the refinement found" if sol.refined else "no refined solution")
-            name = f"{'one' if bb.n_switches == 1 else 'two'}_switch"
-            rec.update(T=bb.T, T_error=bb.error, arc_signs=_signs(bb), switch_times=list(bb.switch_times),
-                       branch=branch, source=f"analytic {name} ({note})")
+    a = sol.answer
+    rec = {"problem": case.problem_key, "T": a.T, "T_error": a.T_error, "arc_signs": list(a.signs),
+           "switch_times": list(a.switch_times), "branch": a.branch, "optimal": sol.optimal,
+           "ties": [e.to_dict() for e in sol.ties], "extremals": [e.to_dict() for e in sol.extremals],
+           "source": "complete search of extremals" + ("" if sol.optimal else " (NOT proved optimal: unresolved)")}
+    x = sol.crosscheck
+    if x is not None and abs(x.T) < AGREE:
+        rec.update(T=x.analytic.T, T_error=x.analytic.error, switch_times=list(x.analytic.switch_times),
+                   source=f"{x.formula}, agreeing with the complete search to {abs(x.T):.0e}")
     rec["time_s"] = time.perf_counter() - start
     return rec
+
+
+def _extremal(d):
+    """An extremal stored as a dict, with the attributes `classify` reads."""
+    return SimpleNamespace(signs=tuple(d["arc_signs"]), branch=d["branch"], T=d["T"])
 
 
 # --- one pair -----------------------------------------------------------------------------------
 
 def _solve_once(case, method, miss_tol):
-    """(Solution, (n_w, n_g)) of one cold solve."""
-    problem, guess = case.problem(), case.initial_guess(method.N)
-    if method.transcription == "rockit":
+    """(Solution or DirectSolution, (n_w, n_g)) of one cold solve."""
+    cache.clear()
+    problem = case.problem()
+    if method.transcription == SEARCH:
+        return solve(problem), (0, 0)
+    guess = case.initial_guess(method.N)
+    if method.transcription == PEER:
         return peer.solve(problem, method, guess, miss_tol)
-    transcription.clear_cache()               # a cold build every repeat
-    sol = pipeline.solve(problem, method.settings(), method.solver, method.options, guess, miss_tol, method.refine)
-    built = transcription.build(method.settings(), method.solver, method.options, free_branch=problem.branch is None)
+    settings = method.transcription_object()
+    sol = direct.solve(problem, settings, method.solver, method.options, guess, miss_tol)
+    built = direct.nlp.build(settings, method.solver, method.options, problem.reading)
     return sol, (built.n_w, built.n_g)
 
 
 def _fields(sol, size):
-    """The stored fields of one solve."""
-    d, s = sol.to_dict(), sol.structure
-    return {
-        "success": sol.success, "solver_success": sol.solver_success, "status": sol.status,
-        "iterations": sol.iterations, "T": _num(sol.T), "T_accuracy": _num(d["T_error"]), "T_direct": _num(sol.T_direct),
-        "branch": d["branch"], "n_switches": sol.n_switches, "arc_signs": list(sol.arc_signs),
-        "switch_times": [float(t) for t in sol.switch_times], "bang_bang": s.bang_bang,
-        "longest_interior_run": s.longest_interior_run, "resim_miss": _num(d["resim_miss"]),
-        "refined": sol.refined is not None, "certified": sol.certified, "starts": len(sol.starts),
-        "n_w": int(size[0]), "n_g": int(size[1]),
-    }
+    """The stored fields of one solve (a search Solution or a DirectSolution)."""
+    if hasattr(sol, "answer"):         # the search
+        return {"success": sol.success, "status": sol.status.name.lower(), "message": sol.message,
+                "T": _num(sol.T), "T_error": _num(sol.T_error), "branch": sol.branch,
+                "n_switches": sol.n_switches, "arc_signs": list(sol.arc_signs),
+                "switch_times": [float(t) for t in sol.switch_times], "bang_bang": True,
+                "extremals_integrated": sol.coverage.extremals if sol.coverage else 0, "n_w": 0, "n_g": 0,
+                "converged": sol.success, "direct_status": None, "iterations": None, "starts": 0}
+    s = sol.structure
+    return {"success": sol.success, "status": sol.status.name.lower(), "message": sol.message,
+            "solver_message": sol.solver_message, "direct_status": int(sol.status), "converged": sol.converged,
+            "iterations": sol.iterations, "T": _num(sol.T), "T_error": _num(sol.T_bound), "branch": sol.branch,
+            "n_switches": s.n_switches, "arc_signs": list(s.arc_signs),
+            "switch_times": [float(t) for t in s.switch_times], "bang_bang": s.bang_bang,
+            "longest_interior_run": s.longest_interior_run, "resim_miss": _num(sol.resim_miss),
+            "starts": len(sol.starts), "n_w": int(size[0]), "n_g": int(size[1])}
 
 
 def measure(case, method, repeats=1, miss_tol=1e-6):
-    """Solve the pair `repeats` times from scratch; the fields of the first solve, the median of
-    each time, every repeat's times, and the spread of T across repeats. A build that fails (a
-    plugin that cannot load, an option it rejects) or a solve that raises gives a failure record."""
-    times = []
-    first = None
+    """Solve the pair `repeats` times, each cold; the fields of the first solve, the median of each
+    time, every repeat's times, and the spread of T across repeats. A build that fails (a plugin
+    that cannot load, an option it rejects) or a solve that raises gives a failure record."""
+    times, first = [], None
     with solver_output("devnull"):
         for _ in range(repeats):
             try:
                 sol, size = _solve_once(case, method, miss_tol)
             except InputError as err:
-                return {"success": False, "solver_success": False, "status": f"build error: {err}", "times": []}
+                return {"success": False, "status": "build_error", "message": f"build error: {err}", "times": []}
             except Exception as err:        # noqa: BLE001  (a solver that raises is a result, not a crash)
-                return {"success": False, "solver_success": False,
-                        "status": f"solver error: {type(err).__name__}: {last_line(err)}", "times": []}
-            times.append({k: getattr(sol, k) for k in ("build_time_s", "solve_time_s", "refine_time_s", "total_time_s")})
+                return {"success": False, "status": "solver_error",
+                        "message": f"solver error: {type(err).__name__}: {last_line(err)}", "times": []}
+            times.append({"build_time_s": getattr(sol, "build_time_s", 0.0),
+                          "solve_time_s": getattr(sol, "solve_time_s", sol.total_time_s),
+                          "total_time_s": sol.total_time_s})
             first = first or (_fields(sol, size), [])
             first[1].append(sol.T)
     fields, Ts = first
@@ -135,57 +144,37 @@ def measure(case, method, repeats=1, miss_tol=1e-6):
 
 # --- scoring ------------------------------------------------------------------------------------
 
-def mirror_branch(problem, k):
-    """The branch of the mirror image of branch k (theta -> 2*theta0 - theta, u -> -u), when the start
-    is its own mirror image (omega0 = 0, theta0 a multiple of pi from the target); else None."""
-    theta0, omega0 = problem.x0
-    m = (theta0 - problem.target_base) / math.pi
-    return round(m) - k if omega0 == 0 and abs(m - round(m)) < 1e-12 else None
-
-
-def structure_ok(record, ref, problem):
-    """Same switch count, arc signs and target branch as the reference, or as its mirror image."""
-    if ref["arc_signs"] is None or record.get("arc_signs") is None:
-        return None
-    if record["arc_signs"] == ref["arc_signs"] and record["branch"] == ref["branch"]:
-        return True
-    return record["arc_signs"] == [-s for s in ref["arc_signs"]] and record["branch"] == mirror_branch(problem, ref["branch"])
-
-
-def outcome(r, time_limit_s):
-    """The class of a scored record (OUTCOMES): the first failure that applies, else "ok"."""
-    status = r["status"]
-    if status.startswith("build error"):
+def outcome(r, ref, time_limit_s):
+    """The class of a record against its reference (OUTCOMES): "ok" where the optimum was reached."""
+    if r["status"] == "build_error":
         return "build error"
-    if status.startswith("solver error"):
-        return "solver error"
-    if r["total_time_s"] > time_limit_s or "time" in status.lower() and "exceeded" in status.lower():
+    if r.get("total_time_s", 0.0) > time_limit_s:
         return "time limit"
-    if not r["solver_success"]:
-        return "no convergence"
-    if not r["success"]:
-        return "misses target"
-    if not r["bang_bang"]:
-        return "chattering"
-    if r["T_error"] is None:
+    if ref["T"] is None:
         return "no reference"
-    bound = r["T_accuracy"] + (r["T_ref_error"] or 0.0)
-    if not r["structure_ok"]:
-        return "local optimum" if r["T_error"] > bound else "wrong structure"
-    return "ok" if abs(r["T_error"]) <= bound else "inaccurate"
+    if r.get("direct_status") is None and r["status"] != "solver_error":      # the search
+        ok = r["success"] and abs(r["T"] - ref["T"]) <= (r["T_error"] or 0.0) + (ref["T_error"] or 0.0) + 1e-12
+        return "ok" if ok else ("inaccurate" if r["success"] else "no convergence")
+    if r["status"] == "solver_error" and r.get("direct_status") is None:
+        return "solver error"
+    d = SimpleNamespace(status=direct.DirectStatus(r["direct_status"]), T=r["T"], branch=r["branch"],
+                        T_bound=r["T_error"], structure=SimpleNamespace(arc_signs=tuple(r["arc_signs"]),
+                                                                      bang_bang=r["bang_bang"]))
+    answer = SimpleNamespace(signs=tuple(ref["arc_signs"]), branch=ref["branch"], T=ref["T"])
+    c = classify(d, answer, [_extremal(t) for t in ref["ties"]], [_extremal(e) for e in ref["extremals"]])
+    return "ok" if c == DirectClass.OPTIMUM else c.name.lower().replace("_", " ")
 
 
 def score(record, ref, case, time_limit_s):
-    """`record` with the reference, T - T_ref, switch-time errors, structure check and outcome."""
-    r = dict(record, T_ref=ref["T"], T_ref_error=ref["T_error"], ref_source=ref["source"], T_error=None,
-             switch_time_errors=None, structure_ok=None)
+    """`record` with the reference, T - T_ref, switch-time errors and the outcome."""
+    r = dict(record, T_ref=ref["T"], T_ref_error=ref["T_error"], ref_source=ref["source"], T_minus_ref=None,
+             switch_time_errors=None)
     r.setdefault("total_time_s", 0.0)
     if r.get("T") is not None and ref["T"] is not None:
-        r["T_error"] = r["T"] - ref["T"]
-        r["structure_ok"] = structure_ok(r, ref, case.problem())
+        r["T_minus_ref"] = r["T"] - ref["T"]
         if len(r["switch_times"]) == len(ref["switch_times"]):
             r["switch_time_errors"] = [t - t_ref for t, t_ref in zip(r["switch_times"], ref["switch_times"])]
-    r["outcome"] = outcome(r, time_limit_s)
+    r["outcome"] = outcome(r, ref, time_limit_s)
     return r
 
 

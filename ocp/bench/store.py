@@ -13,7 +13,7 @@ import json
 import sqlite3
 from pathlib import Path
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 SCHEMA = """
 create table if not exists sessions (id integer primary key, suite text, executor text, environment text);

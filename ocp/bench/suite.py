@@ -15,12 +15,12 @@ these" and the table expands to the Cartesian product of its lists:
     guess = ["default", 1, 2]        # "default": ocp's three starts; an integer: a seeded random Guess
 
     [[methods]]
-    transcription = "multiple-shooting"   # or "direct-collocation", or "rockit" (the peer)
-    integrator = "rk4"
+    transcription = "multiple-shooting"   # a key of ocp.direct.TRANSCRIPTIONS, "rockit" (the peer),
+    integrator = "rk4"                    # or "extremal-search" (ocp.solve's complete search alone)
     N = [25, 50, 100]
     solver = ["ipopt", "fatrop"]
-    refine = [false, true]
     options = { ipopt = { "ipopt.tol" = 1e-10 } }   # per solver, passed to casadi.nlpsol untouched
+                                                    # (options that run a program or touch a file are refused)
 
 Cases and methods are plain frozen data (`Case`, `Method`): they travel to worker processes or a
 cluster as they are, and a worker rebuilds the NLP from them.
@@ -33,13 +33,22 @@ import tomllib
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 
-from .. import direct, problems
-from ..errors import InputError
-from ..transcription import DirectCollocation, MultipleShooting
+from importlib import resources
 
-#: where the named suites live (the repository's benchmarks/ folder)
-SUITES_DIR = Path(__file__).resolve().parents[2] / "benchmarks"
-TRANSCRIPTIONS = ("multiple-shooting", "direct-collocation", "rockit")
+from .. import direct
+from ..core import problem as problems
+from ..core.errors import InputError
+from ..direct.options import checked
+
+PEER = "rockit"
+SEARCH = "extremal-search"
+#: what a method row may be: a direct transcription of ocp, the peer, or the search
+KINDS_OF_METHOD = (*direct.TRANSCRIPTIONS, PEER, SEARCH)
+
+
+def _suites_dir():
+    """The named suites: package data ocp/bench/suites/*.toml."""
+    return resources.files("ocp.bench") / "suites"
 
 
 def _key(obj):
@@ -82,43 +91,52 @@ class Case:
 
 @dataclass(frozen=True)
 class Method:
-    """A transcription with its settings, an NLP solver with its options, and whether the direct
-    answer is refined (`ocp.solve` with refinement and certificate). transcription "rockit" is the
-    peer: rockit's own multiple shooting (integrator "rk", M steps per interval)."""
+    """A direct transcription (a key of `ocp.direct.TRANSCRIPTIONS` with its settings), an NLP
+    solver with its options; or "rockit", the peer (its own multiple shooting, integrator "rk", M
+    steps per interval); or "extremal-search", ocp.solve's complete search of extremals (no N, no
+    solver). Only the settings given are stored (`settings`); each must apply."""
 
     transcription: str = "multiple-shooting"
-    N: int = 100
-    integrator: str = "rk4"
-    M: int = 4
-    tol: float = 1e-10
-    degree: int = 3
+    settings: tuple = ()
     solver: str = "ipopt"
     options: dict = field(default_factory=dict)
-    refine: bool = False
 
     def __post_init__(self):
-        if self.transcription not in TRANSCRIPTIONS:
-            raise InputError(f"unknown transcription {self.transcription!r}; accepted: {', '.join(TRANSCRIPTIONS)}")
-        if self.transcription == "rockit" and self.refine:
-            raise InputError("the rockit peer has no refinement: refine must be false")
-        self.settings()     # validates N, M, degree, integrator
+        if self.transcription not in KINDS_OF_METHOD:
+            raise InputError(f"unknown transcription {self.transcription!r}; accepted: {', '.join(KINDS_OF_METHOD)}")
+        if self.transcription == SEARCH and (self.settings or self.options or self.solver != "ipopt"):
+            raise InputError("the extremal search takes no transcription settings, solver or options")
+        if self.transcription == PEER and set(self.given) - {"N", "M"}:
+            raise InputError(f"the rockit peer takes N and M only, not {sorted(set(self.given) - {'N', 'M'})}")
+        checked(self.options, where=f"options of {self.transcription} / {self.solver}")
+        self.transcription_object()          # validates the settings
+
+    @property
+    def given(self):
+        return dict(self.settings)
 
     def __hash__(self):     # options is a dict: the canonical key stands for it
         return hash(self.key)
 
-    def settings(self):
-        """The ocp transcription object (for rockit: the equivalent ocp settings, used to validate)."""
-        if self.transcription == "direct-collocation":
-            return DirectCollocation(self.N, self.degree)
-        return MultipleShooting(self.N, "rk4" if self.transcription == "rockit" else self.integrator, self.M, self.tol)
+    def transcription_object(self):
+        """The ocp transcription (for rockit: the equivalent multiple shooting), None for the search."""
+        if self.transcription == SEARCH:
+            return None
+        if self.transcription == PEER:
+            return direct.MultipleShooting(**self.given)
+        return direct.make(self.transcription, **self.given)
+
+    @property
+    def N(self):
+        t = self.transcription_object()
+        return None if t is None else t.N
 
     def to_dict(self):
-        """The fields that matter for this transcription (others are left out of keys and labels)."""
-        d = asdict(self)
-        unused = {"multiple-shooting": {"degree"} | ({"tol"} if self.integrator != "cvodes" else {"M"}),
-                  "direct-collocation": {"integrator", "M", "tol"},
-                  "rockit": {"integrator", "tol", "degree", "refine"}}[self.transcription]
-        return {k: v for k, v in d.items() if k not in unused}
+        t = self.transcription_object()
+        d = {"transcription": self.transcription}
+        if t is not None:
+            d.update(t.to_dict(), transcription=self.transcription, solver=self.solver, options=self.options)
+        return d
 
     @property
     def key(self):
@@ -127,16 +145,16 @@ class Method:
     @property
     def family(self):
         """The method without its N: one curve of a work-precision chart."""
-        d = self.to_dict()
-        name = {"multiple-shooting": f"MS {self.integrator}", "direct-collocation": f"DC radau{self.degree}",
-                "rockit": "rockit MS rk"}[self.transcription]
-        name += {"cvodes": f" tol={self.tol:g}", "radau": ""}.get(d.get("integrator"), f" M={self.M}" if "M" in d else "")
-        name += f" / {self.solver}" + (" +refine" if self.refine else "")
+        if self.transcription == SEARCH:
+            return "extremal search"
+        t = self.transcription_object()
+        name = f"rockit MS rk M={t.M}" if self.transcription == PEER else t.family()
+        name += f" / {self.solver}"
         return name + (f" {_key(self.options)}" if self.options else "")
 
     @property
     def label(self):
-        return f"{self.family} N={self.N}"
+        return self.family if self.N is None else f"{self.family} N={self.N}"
 
 
 @dataclass(frozen=True)
@@ -181,22 +199,24 @@ def _case(d):
 
 
 def _method(d):
-    names = {f.name for f in fields(Method)}
+    names = {"transcription", "solver", "options"} | {f for c in direct.TRANSCRIPTIONS.values() for f in c.__dataclass_fields__}
     if set(d) - names:
         raise InputError(f"unknown method field(s) {sorted(set(d) - names)}; accepted: {', '.join(sorted(names))}")
     options = d.get("options", {})
     if not isinstance(options, dict) or not all(isinstance(v, dict) for v in options.values()):
         raise InputError(f"options = {options!r} must be a table per solver, e.g. options = {{ ipopt = {{ \"ipopt.tol\" = 1e-10 }} }}")
-    return Method(**dict(d, options=options.get(d.get("solver", "ipopt"), {})))
+    settings = tuple(sorted((k, v) for k, v in d.items() if k not in ("transcription", "solver", "options")))
+    return Method(d.get("transcription", "multiple-shooting"), settings, d.get("solver", "ipopt"),
+                  options.get(d.get("solver", "ipopt"), {}))
 
 
 def load(name_or_path):
-    """The Suite named `name_or_path` (a file stem in benchmarks/, e.g. "quick") or at that path."""
+    """The Suite named `name_or_path` (a suite of ocp/bench/suites, e.g. "quick") or at that path."""
     path = Path(name_or_path)
     if not path.suffix:
-        path = SUITES_DIR / f"{name_or_path}.toml"
+        path = _suites_dir() / f"{name_or_path}.toml"
     if not path.is_file():
-        named = sorted(p.stem for p in SUITES_DIR.glob("*.toml"))
+        named = sorted(p.name[:-5] for p in _suites_dir().iterdir() if p.name.endswith(".toml"))
         raise InputError(f"no suite {name_or_path!r}; accepted: a TOML file, or one of: {', '.join(named)}")
     try:
         data = tomllib.loads(path.read_text())

@@ -1,4 +1,4 @@
-"""`ocp figures`: every figure of the suite, in one style (`ocp.plotting`), as PNG and PDF.
+"""`ocp figures`: every figure of the suite, in one style (`ocp.core.plotting`), as PNG and PDF.
 
 Each figure is a data function (plain arrays and points, tested in tests/test_figures.py) and a
 drawing. The papers' figures are computed by the suite itself: the swing-up phase portraits from
@@ -11,8 +11,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from .. import plotting
-from ..errors import InputError
+from ..core import plotting
+from ..core.errors import InputError
 from . import batista, finch, suite, vibrating_pivot
 
 

@@ -9,7 +9,7 @@ from fractions import Fraction
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .. import references
+from ..papers import references
 from ..scenes import falling
 from .ticks import pi_ticks
 

@@ -1,12 +1,13 @@
 """Phase portraits of the minimum-time swing-up (Finch 2015, Figures 1 and 2, and kappa = 3/4),
-drawn from the suite's own refined and certified solutions (`ocp.solve`), with Finch's formulas
-(`ocp.analytic`) marked at the switches.
+drawn from the suite's own solutions (`ocp.solve`: the optimum of the complete search of
+extremals, and the fastest extremal of another switch count), with Finch's formulas
+(`ocp.exact.finch`) marked at the switches.
 
 The paper's convention is the suite's (theta = 0 hanging, nondimensional time), so nothing is
 converted. Around the trajectories, the phase-plane context: the equilibria of the free pendulum,
 its separatrix omega^2/2 - cos(theta) = 1, and the arcs of u = +1 and u = -1 that end at the
 target (pi, 0), the level sets of the arc invariant omega^2/2 - cos(theta) - kappa*u*theta
-through it (`ocp.model.arc_invariant`).
+through it (`ocp.core.model.arc_invariant`).
 """
 
 import math
@@ -16,10 +17,11 @@ import matplotlib.pyplot as plt
 from matplotlib.legend_handler import HandlerTuple
 import numpy as np
 
-from .. import analytic, model, pipeline, plotting, problems, simulate
-from ..certificate import certify
-from ..refine import with_error_estimate
-from ..verify import defended
+from ..core import model, plotting, problem as problems, simulate
+from ..core.numbers import digits
+from ..exact import finch as analytic
+from ..indirect import certify
+from ..solving import solve
 from .ticks import pi_ticks
 
 XLIM = (-math.pi, 3 * math.pi / 2)
@@ -31,7 +33,7 @@ class Trajectory:
     """A refined bang-bang extremal of the swing-up and its dense re-simulation: `arcs` is a list
     of (u, states (m, 2)), `state_error` bounds the error of the switch states (the switch-time
     error estimate times the larger phase speed at the switch), `analytic` is Finch's formula for
-    the same structure (`ocp.analytic.BangBang`, None where the paper has none)."""
+    the same structure (`ocp.exact.finch.BangBang`, None where the paper has none)."""
 
     signs: tuple
     T: float
@@ -47,20 +49,20 @@ class Trajectory:
         return len(self.signs) - 1
 
 
-def trajectory(problem, refined, samples):
-    """The Trajectory of a refined extremal of `problem`: its error estimate, certificate and arcs
-    re-simulated independently (`ocp.simulate`) at `samples` points each."""
+def trajectory(problem, extremal, samples):
+    """The Trajectory of an extremal of `problem` (`ocp.indirect.Extremal`): its error estimate,
+    certificate and arcs re-simulated independently (`ocp.core.simulate`) at `samples` points each."""
     x0, kappa = np.asarray(problem.x0, float), problem.kappa
-    r = with_error_estimate(refined, x0, kappa, problem.target(problem.branch))
-    states = np.array(r.switch_states)
+    states = np.array(extremal.switch_states)
     speed = max(np.hypot(*model.rhs(x, u, kappa)) for x in states for u in (-1, 1))
     arcs, x = [], x0
-    for u, d in zip(r.signs, r.durations):
+    for u, d in zip(extremal.signs, extremal.durations):
         xs = simulate.piecewise(x, np.linspace(0.0, d, samples), np.full(samples - 1, u), kappa)
         arcs.append((u, xs))
         x = xs[-1]
-    return Trajectory(r.signs, r.T, r.T_error, states, r.switch_time_error * speed, certify(r, x0, kappa).certified,
-                      arcs, analytic.formula_for(problem, problem.branch, r.n_switches, r.first_u))
+    return Trajectory(extremal.signs, extremal.T, extremal.T_error, states, extremal.switch_time_error * speed,
+                      certify(extremal, x0, kappa).certified, arcs,
+                      analytic.formula_for(problem, extremal.branch, extremal.n_switches, extremal.signs[0]))
 
 
 def level_set(theta, through, u, kappa):
@@ -72,18 +74,18 @@ def level_set(theta, through, u, kappa):
 
 def portrait(kappa, switch_counts, samples=80):
     """Data of a phase portrait: the swing-up from (0, 0) to (pi, 0) for `kappa` solved by
-    `ocp.solve`, and for each number of switches in `switch_counts` the fastest extremal among its
-    candidates with that many (a Trajectory); the free pendulum's separatrix (upper branch), the
+    `ocp.solve`, and for each number of switches in `switch_counts` the fastest extremal of the
+    search with that many (a Trajectory); the free pendulum's separatrix (upper branch), the
     arcs into the target for u = +1 (theta > pi, omega < 0) and u = -1 (theta < pi, omega > 0),
     and the equilibria in view."""
     problem = problems.swing_up(kappa, branch=0)
-    result = pipeline.solve(problem)
+    result = solve(problem)
     trajectories = []
     for n in switch_counts:
-        best = next((c for c in result.candidates if c.valid and len(c.signs) == n + 1), None)
+        best = next((e for e in result.extremals if e.n_switches == n), None)
         if best is None:
-            raise RuntimeError(f"swing-up, kappa = {kappa}: no extremal with {n} switch(es) among the candidates")
-        trajectories.append(trajectory(problem, best.refined, samples))
+            raise RuntimeError(f"swing-up, kappa = {kappa}: no extremal with {n} switch(es) before the horizon")
+        trajectories.append(trajectory(problem, best, samples))
     theta = np.linspace(*XLIM, 721)
     target = problem.target(0)
     below, above = theta[theta <= math.pi], theta[theta >= math.pi]
@@ -115,7 +117,7 @@ def three_quarters():
 
 def _fmt(value, error):
     """value with at most 4 decimals, fewer if its error does not defend them; a true minus sign."""
-    return defended(value, max(error, 5e-5)).replace("-", "−")
+    return digits(value, max(error, 5e-5)).replace("-", "−")
 
 
 def _signs(signs):
@@ -164,7 +166,7 @@ def draw(data, title):
         status = "certified extremal" if traj.certified else "NOT certified"
         handles.append((ax.plot([], [], color="black", ls=ls, lw=2.0)[0],
                         f"{n} switch{'es' if n > 1 else ''}, u = {_signs(traj.signs)}: "
-                        f"T = {defended(traj.T, max(traj.T_error, 5e-7))} ({status})"))
+                        f"T = {digits(traj.T, max(traj.T_error, 5e-7))} ({status})"))
         if traj.analytic is not None:
             formulas.extend(traj.analytic.switch_states)
     switches = np.concatenate([t.switch_states for t in data["trajectories"]])
@@ -172,7 +174,7 @@ def draw(data, title):
                     "switch (suite: refined, labelled (θ, ω))"))
     if formulas:
         handles.append((ax.plot(*np.transpose(formulas), "o", mfc="none", mec="black", ms=10, zorder=4)[0],
-                        "switch by Finch's formula (ocp.analytic)"))
+                        "switch by Finch's formula (ocp.exact.finch)"))
     for x, text in ((data["x0"], "start (0, 0)"), (data["target"], "end (π, 0)")):
         ax.annotate(text, x, xytext=(9, 0), textcoords="offset points", fontsize=8, va="center")
     pi_ticks(ax.xaxis, *XLIM)

@@ -8,7 +8,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .. import references
+from ..papers import references
 from ..scenes import kapitza as scene
 from .ticks import pi_ticks
 
@@ -19,7 +19,7 @@ READING = {"rad_s": "ω = {value:g} rad/s", "2pi": "ω = 2π·{value:g} rad/s"}
 def _examples():
     """The papers' examples on the device (A, l, g of `ocp.scenes.kapitza`), name -> dict(omega in
     rad/s, title, label and tag (short), printed: the paper's verdict (+1 stable, -1 unstable; Tam's Figure
-    3 is captioned stable, Weinstein's are read from reference/weinstein_tam.toml), floquet: the
+    3 is captioned stable, Weinstein's are read from ocp/papers/data/weinstein_tam.toml), floquet: the
     exact verdict, max_abs_mu: the largest modulus of the Floquet multipliers per drive period)."""
     out = {"tam_fig3": {"omega": scene.FIG3_OMEGA, "printed": 1, "tag": "T3",
                         "label": f"Tam Fig. 3, ω = {scene.FIG3_OMEGA:g} rad/s (assumed)",

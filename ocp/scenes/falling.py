@@ -10,7 +10,7 @@ theta_p = pi/2. The falling time is (7)
 
     I(theta0, a) = int_theta0^(pi/2) dtheta / sqrt(2a^2 + cos(theta0) - cos(theta))     (8)
 
-Conversion at this module's edge to the suite's convention (ocp.model, theta = 0 hanging down):
+Conversion at this module's edge to the suite's convention (ocp.core.model, theta = 0 hanging down):
 
     theta = pi - theta_p,   t = sqrt(g/L) s,   omega = dtheta/dt = -omega_p sqrt(L/g),
 
@@ -40,7 +40,7 @@ should be 1/(sqrt(2) k); the upper limit in (15) reads cos(theta0/2)/p for cos(t
 bound before (26) prints sqrt(hbar/(2 m L^2)) sqrt(L/g) for sqrt(hbar/(2 m L^2) sqrt(L/g)), which
 (26) then uses correctly; (7) holds only for omega_0 >= 0 (I depends on a^2 alone, but a pendulum
 started towards the upright first rises). Printed numbers that are wrong are in
-reference/batista2006.toml with the evidence (`reproduce`): Table 1's "Maple numerical" value for
+ocp/papers/data/batista2006.toml with the evidence (`ocp.papers.batista2006`): Table 1's "Maple numerical" value for
 pi/48, and the difference of (18) and (19), which is sqrt(2) ln 2, not ln 2.
 
 Table 1's "Relative Error" column compares the paper's two Maple computations with each other (at
@@ -57,9 +57,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.special import elliprf
 
-from .. import model
-from ..errors import InputError
-from ..verify import Reproduction
+from ..core import model
+from ..core.errors import InputError
 
 G = 9.8  #: m/s^2, the paper's g
 HBAR = 1.05457e-34  #: J s, the paper's hbar
@@ -185,33 +184,3 @@ def fall_time_casadi(x0, plugin="cvodes", step=0.5, t_max=100.0, **opts):
 
 TABLE1 = (192, 48, 24, 6, 3)  #: Table 1: theta0 = pi/n
 TABLE2 = (3072, 384, 96, 24, 6)  #: Table 2: theta0 = pi/n
-
-
-def reproduce():
-    """The paper's printed values, computed (keys of reference/batista2006.toml)."""
-    how = "I(pi/n, 0) in closed form (Carlson RF, scipy); = 30-digit mpmath quadrature (tests)"
-    out = {}
-    for n in TABLE1:
-        i = Reproduction(float(falling_integral(math.pi / n)), ACCURACY_I, how)
-        out[f"t1_formula17_pi{n}"] = out[f"t1_maple_pi{n}"] = i
-    out["t1_maple_pi48"] = replace(out["t1_maple_pi48"], evidence=(
-        f"I(pi/48) = {out['t1_maple_pi48'].value!r} by 30-digit mpmath quadrature "
-        "(tests/test_falling.py) and by the closed form: the 'Formula (17)' entry 5.55096041 is "
-        "right, the 'Maple numerical' entry 5.55096159 is 1.2e-6 too large"))
-    for n in TABLE2:
-        i, i18 = float(falling_integral(math.pi / n)), float(asymptotic18(math.pi / n))
-        out[f"t2_formula17_pi{n}"] = Reproduction(i, ACCURACY_I, how)
-        out[f"t2_formula18_pi{n}"] = Reproduction(i18, 1e-14, f"(18) at theta0 = pi/{n}")
-        out[f"t2_relerr_pi{n}"] = Reproduction((i - i18) / i, 1e-14, "(I - (18)) / I")
-    for n in (3072, 384):
-        out[f"t2_theta0_pi{n}"] = Reproduction(math.pi / n, 1e-16, f"pi/{n}")
-    diff = float(asymptotic18(0.1) - asymptotic19(0.1))
-    out["diff_18_19"] = Reproduction(diff, 1e-14, "(18) - (19), the same at every theta0", evidence=(
-        f"(18) - (19) = sqrt(2) [ln(8(sqrt(2)-1)) - ln(4(sqrt(2)-1))] = sqrt(2) ln 2 = {diff:.6f} "
-        "(both formulas evaluated at theta0 = 0.1); ln 2 is the difference of the brackets"))
-    out["sqrt_L_2g"] = Reproduction(math.sqrt(0.15 / (2 * G)), 1e-16, "sqrt(L/(2g)), L = 0.15 m")
-    out["T_1deg"] = Reproduction(float(falling_time(math.pi / 180)), 1e-14,
-                                 "(7), I in closed form; theta0 = pi/180, omega0 = 0, L = 0.15 m")
-    out["T_uncertainty"] = Reproduction(float(uncertainty_time()), 1e-13,
-                                        "(7), k = 1, equality in (24); L = 0.1 m, m = 1 g")
-    return out

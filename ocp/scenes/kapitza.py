@@ -35,7 +35,7 @@ Tam's step is wrong: the average of cos over a period is 0 (1/sqrt(2) is its roo
 the stabilisation is an effect of second order in A/l; for the papers' device (l = 0.20 m,
 A = 1.3 mm) Tam's criterion gives 103 rad/s against the true 1523 rad/s.
 
-Formula errors in the papers (verdicts on printed numbers are in reference/weinstein_tam.toml):
+Formula errors in the papers (verdicts on printed numbers are in ocp/papers/data/weinstein_tam.toml):
 - Weinstein (22) has l^2 theta'' for l theta'' (dimension error); (23) defines omega_0 = g/l for
   sqrt(g/l), and keeps a factor w_s^2 on the forcing term that the change tau = w_s t removes:
   it should read theta_tautau + ((A/l) cos(tau) - (omega_0/w_s)^2) sin(theta) = 0 (Tam's (23)).
@@ -59,8 +59,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from ..errors import InputError
-from ..verify import Reproduction
+from ..core.errors import InputError
 
 L, A, G = 0.20, 0.0013, 9.8  #: the papers' device: rod length (m), pivot amplitude (m), g (m/s^2)
 EXAMPLES = {"fig4": 200.0, "fig5": 20.0}  #: Weinstein's Figures 4 and 5: w in "Hz * rad"
@@ -197,26 +196,4 @@ def figures():
     for name, (omega, caption) in cases.items():
         t, theta = simulate(A, omega)
         out[name] = {"omega": omega, "stable": stability(A, omega), "t": t, "theta": theta, "caption": caption}
-    return out
-
-
-def reproduce():
-    """The papers' printed claims, computed (keys of reference/weinstein_tam.toml)."""
-    out = {"cos_average": Reproduction(0.0, 0.0, "(1/2pi) int_0^2pi cos(tau) dtau = 0", evidence=(
-        "the mean of cos over a period is 0 exactly; 1/sqrt(2) is its root mean square (Tam's own "
-        "premise, mean of cos^2 = 1/2). The exact Floquet boundary (the stabilisation is of second "
-        f"order in A/l) puts the device's critical frequency at {critical_frequencies(A)[0]:.1f} rad/s, "
-        f"not Tam's {tam_frequency(A):.1f} rad/s"))}
-    lower = critical_frequencies(A)[0]
-    for row in examples_table():
-        key = f"{row['figure']}_stable_{row['reading']}"
-        how = (f"Floquet: w = {row['omega']:.4g} rad/s, 2 - |tr M| = {row['margin']:.3e}, "
-               f"max |mu| = {row['max_abs_mu']:.6g}")
-        evidence = ""
-        if row["floquet"] < 0 and row["figure"] == "fig4":
-            t, theta = simulate(A, row["omega"])
-            evidence = (f"max |mu| = {row['max_abs_mu']:.4f} > 1 per drive period: w = {row['omega']:.1f} rad/s "
-                        f"is below the exact lower boundary {lower:.1f} rad/s (Kapitza {kapitza_frequency(A):.1f}); "
-                        f"the simulation of Tam (20) from 0.1 rad passes pi/2 at t = {t[np.argmax(np.abs(theta) > math.pi / 2)]:.2f} s")
-        out[key] = Reproduction(float(row["floquet"]), 0.0, how, evidence)
     return out

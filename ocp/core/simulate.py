@@ -35,14 +35,3 @@ def arcs(x0, signs, durations, kappa):
     for i, (u, d) in enumerate(zip(signs, durations)):
         x[i + 1] = flow(x[i], u, d, kappa)
     return x
-
-
-def peak_speed(x0, signs, durations, kappa):
-    """max |omega| along consecutive bang arcs, from a loose simulation (rtol 1e-6): a step-size scale."""
-    peak, x = abs(float(x0[1])), np.asarray(x0, dtype=float)
-    for u, d in zip(signs, durations):
-        if d <= 0:
-            continue
-        sol = solve_ivp(lambda t, y: model.rhs(y, u, kappa), (0.0, d), x, method="RK45", rtol=1e-6, atol=1e-9)
-        peak, x = max(peak, float(np.max(np.abs(sol.y[1])))), sol.y[:, -1]
-    return peak

@@ -1,6 +1,6 @@
-"""Published values, read from `reference/*.toml` (one file a paper).
+"""Published values, read from the package data `ocp/papers/data/*.toml` (one file a paper).
 
-Each file has a `[paper]` table (id, citation, file in ../shared/papers) and `[[value]]` entries:
+Each file has a `[paper]` table (id, citation, where to find it) and `[[value]]` entries:
 
     key      name the reproducing module uses for it
     printed  the text as printed (verbatim)
@@ -10,12 +10,10 @@ Each file has a `[paper]` table (id, citation, file in ../shared/papers) and `[[
     meaning  what the number is, with its units and convention
 """
 
-import os
 import tomllib
 from dataclasses import dataclass
-from pathlib import Path
+from importlib import resources
 
-REFERENCE_DIR = Path(os.environ.get("OCP_REFERENCE_DIR", Path(__file__).resolve().parents[1] / "reference"))
 READINGS = ("truncated", "rounded", "approximate")
 
 
@@ -39,17 +37,29 @@ class Published:
         return len(self.digits.lstrip("-").replace(".", "").lstrip("0"))
 
 
+def _data():
+    return resources.files("ocp.papers") / "data"
+
+
 def papers():
     """Ids of the papers that have a reference file."""
-    return sorted(p.stem for p in REFERENCE_DIR.glob("*.toml"))
+    return sorted(p.name[:-5] for p in _data().iterdir() if p.name.endswith(".toml"))
+
+
+def _read(paper):
+    return tomllib.loads((_data() / f"{paper}.toml").read_text(encoding="utf-8"))
+
+
+def citation(paper):
+    """(citation, where to find it) of `paper`."""
+    head = _read(paper)["paper"]
+    return head["citation"], head["where"]
 
 
 def load(paper):
     """The published values of `paper`, keyed by `key`, in file order."""
-    with open(REFERENCE_DIR / f"{paper}.toml", "rb") as f:
-        data = tomllib.load(f)
     values = {}
-    for entry in data["value"]:
+    for entry in _read(paper)["value"]:
         item = Published(paper=paper, **entry)
         if item.reading not in READINGS:
             raise ValueError(f"{paper}.toml: {item.key}: reading {item.reading!r} not in {READINGS}")

@@ -1,14 +1,18 @@
 """`ocp verify`: every published value beside the suite's own computation of it.
 
-A module that reproduces a paper exposes `reproduce() -> dict[key, Reproduction]`; the keys are
-those of the paper's file in `reference/`. A paper may have several such modules (exact formulas
-in one, claims that need a solve in another). A printed value gets one verdict:
+A module of this package reproduces a paper (`REPRODUCERS`): `reproduce() -> dict[key,
+Reproduction]`, the keys those of the paper's file in `data/`. Each computed value carries a bound
+of its error (its accuracy), from an error estimate of the computation. The printed number P, with
+its last digit of unit q, stands for an interval: [P, P + q) away from zero when truncated
+("..."), [P - q/2, P + q/2] when rounded or approximate ("about"). A printed value gets one verdict:
 
-    agrees                  every printed digit is reproduced (truncated or rounded as printed)
-    rounding of the print   off by one unit in the last printed digit (e.g. rounded, not truncated)
-    the paper is wrong      off by more; the Reproduction carries the independent evidence
-    disagrees               off by more and no evidence given (a defect of the suite, never shipped)
-    not reproduced          the suite has no computation of this value (yet)
+    agrees                  the computed value's whole error interval lies inside the printed interval
+    rounding of the print   it lies within one unit q of P (e.g. rounded where truncation is read)
+    the paper is wrong      it lies farther from P than q, beyond both the print's rounding and the
+                            suite's accuracy; the Reproduction carries the computed evidence
+    disagrees               the same without evidence (a defect of the suite, never shipped)
+    not reproduced          no computation, one of unknown accuracy, or one not accurate enough
+                            to decide
 """
 
 import importlib
@@ -16,13 +20,14 @@ import math
 from dataclasses import dataclass, asdict
 from decimal import Decimal, ROUND_DOWN, ROUND_HALF_EVEN
 
+from ..core.numbers import digits
 from . import references
 
 #: paper id -> the modules that reproduce it
 REPRODUCERS = {
-    "finch2015": ("ocp.analytic", "ocp.examples"),
-    "batista2006": ("ocp.scenes.falling",),
-    "weinstein_tam": ("ocp.scenes.kapitza",),
+    "finch2015": "ocp.papers.finch2015",
+    "batista2006": "ocp.papers.batista2006",
+    "weinstein_tam": "ocp.papers.weinstein_tam",
 }
 
 
@@ -62,8 +67,9 @@ def _digits(d, q):
     return format(abs(d.quantize(q)), "f").replace(".", "").lstrip("0")
 
 
-def compare(published, computed):
-    """(digits agreeing, digits printed, verdict) of `computed` against the printed `published`."""
+def compare(published, computed, accuracy):
+    """(digits agreeing, digits printed, verdict) of `computed` +- `accuracy` against the printed
+    `published` (see the module doc)."""
     printed = Decimal(published.digits)
     q = Decimal(1).scaleb(printed.as_tuple().exponent)
     exact = Decimal(repr(float(computed)))
@@ -75,37 +81,45 @@ def compare(published, computed):
             if x != y:
                 break
             agree += 1
-    if published.reading == "approximate":
-        verdict = "agrees" if abs(exact - printed) <= q / 2 else "disagrees"
-    elif shown == printed:
-        verdict = "agrees"
-    elif abs(exact - printed) <= q:
-        verdict = "rounding of the print"
+    if accuracy is None or not math.isfinite(accuracy):
+        return agree, len(a), "not reproduced"
+    e = Decimal(repr(float(accuracy)))
+    if published.reading == "truncated":
+        lo, hi = (printed, printed + q) if printed >= 0 else (printed - q, printed)
     else:
+        lo, hi = printed - q / 2, printed + q / 2
+    if lo <= exact - e and exact + e <= hi and (exact + e < hi or published.reading != "truncated"):
+        verdict = "agrees"
+    elif abs(exact - printed) + e <= q:
+        verdict = "rounding of the print"
+    elif abs(exact - printed) - e > q:
         verdict = "disagrees"
+    else:
+        verdict = "not reproduced"
     return agree, len(a), verdict
 
 
-def rows(paper=None):
-    """The verify table: one Row per published value (of one paper, or of all)."""
+def rows(paper=None, progress=None):
+    """The verify table: one Row per published value (of one paper, or of all); a line per paper
+    on the stream `progress` as it is computed."""
     out = []
-    for pid in [paper] if paper else references.papers():
+    ids = [paper] if paper else references.papers()
+    for n, pid in enumerate(ids, 1):
+        if progress is not None:
+            print(f"verify: {pid} ({n}/{len(ids)}) ...", file=progress, flush=True)
         published = references.load(pid)
-        computed = {}
-        for name in REPRODUCERS[pid]:
-            part = importlib.import_module(name).reproduce()
-            unknown, twice = set(part) - set(published), set(part) & set(computed)
-            if unknown or twice:
-                raise KeyError(f"{name}.reproduce(): keys not in reference/{pid}.toml {sorted(unknown)}, "
-                               f"or reproduced twice {sorted(twice)}")
-            computed.update(part)
+        name = REPRODUCERS[pid]
+        computed = importlib.import_module(name).reproduce()
+        unknown = set(computed) - set(published)
+        if unknown:
+            raise KeyError(f"{name}.reproduce(): keys not in data/{pid}.toml: {sorted(unknown)}")
         for key, pub in published.items():
             rep = computed.get(key)
             if rep is None:
                 out.append(Row(pid, key, pub.source, pub.meaning, pub.printed, None, None, 0,
                                pub.significant_digits, "not reproduced", "", ""))
                 continue
-            agree, n, verdict = compare(pub, rep.value)
+            agree, n, verdict = compare(pub, rep.value, rep.accuracy)
             if verdict == "disagrees" and rep.evidence:
                 verdict = "the paper is wrong"
             out.append(Row(pid, key, pub.source, pub.meaning, pub.printed, float(rep.value), float(rep.accuracy), agree, n,
@@ -117,18 +131,6 @@ def as_dicts(table):
     return [asdict(r) for r in table]
 
 
-def defended(value, accuracy):
-    """`value` with no more decimals than its absolute `accuracy` supports (at most 16 digits);
-    6 significant digits, marked, when the accuracy is unknown (NaN)."""
-    if not math.isfinite(accuracy):
-        return f"{value:.6g} (accuracy unknown)"
-    if accuracy == 0 and float(value).is_integer():
-        return str(int(value))
-    decimals = 16 if accuracy <= 0 else max(0, math.floor(-math.log10(accuracy)))
-    magnitude = math.floor(math.log10(abs(value))) + 1 if value else 1
-    return f"{value:.{max(0, min(decimals, 16 - magnitude))}f}"
-
-
 def format_table(table):
     """The verify table as aligned text, a line per value, grouped by paper."""
     lines, paper = [], None
@@ -136,11 +138,16 @@ def format_table(table):
     for r in table:
         if r.paper != paper:
             paper = r.paper
-            lines += ["" if lines else None, f"[{paper}]", head]
-        computed = "-" if r.computed is None else defended(r.computed, r.accuracy)
+            citation, where = references.citation(paper)
+            lines += ["" if lines else None, f"[{paper}] {citation}", f"  ({where})", head]
+        computed = "-" if r.computed is None else digits(r.computed, r.accuracy)
         lines.append(f"{r.key:<28} {r.printed:>18} {computed:>22} {r.digits_agree:>3}/{r.digits_printed:<3}  {r.verdict}")
         if r.evidence:
             lines.append(f"{'':<28} evidence: {r.evidence}")
         if r.erratum:
             lines.append(f"{'':<28} erratum: {r.erratum}")
+    counts = {}
+    for r in table:
+        counts[r.verdict] = counts.get(r.verdict, 0) + 1
+    lines += ["", f"{len(table)} printed values: " + ", ".join(f"{n} {v}" for v, n in counts.items())]
     return "\n".join(l for l in lines if l is not None)

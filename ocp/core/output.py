@@ -1,11 +1,34 @@
-"""Where compiled solvers print: CasADi's plugins (IPOPT, qpOASES, SUNDIALS...) write to the C file
+"""What the suite writes to the terminal.
+
+Compiled solvers print: CasADi's plugins (IPOPT, qpOASES, SUNDIALS...) write to the C file
 descriptors 1 and 2, and CasADi's own messages go through Python's sys.stdout. `solver_output(to)`
-points both elsewhere meanwhile, so that stdout holds only the answer (one JSON object with --json)."""
+points both elsewhere meanwhile, so that stdout holds only the answer (one JSON object with
+--json, written by `print_json`)."""
 
 import contextlib
 import ctypes
+import json
+import math
 import os
 import sys
+
+
+def plain(obj):
+    """JSON-ready data: numpy values as lists and floats, non-finite numbers as null."""
+    if isinstance(obj, dict):
+        return {str(k): plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [plain(v) for v in obj]
+    if hasattr(obj, "tolist"):
+        return plain(obj.tolist())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def print_json(obj):
+    """One JSON document on stdout."""
+    print(json.dumps(plain(obj), indent=2, allow_nan=False))
 
 
 @contextlib.contextmanager

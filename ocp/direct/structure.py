@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import simulate
+from ..core import simulate
 
 BANG_TOL = 1e-3
 

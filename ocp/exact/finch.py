@@ -1,6 +1,6 @@
 """The exact side of the torque-limited pendulum (Finch 2015, "Swing-up control of a pendulum").
 
-Convention of `ocp.model`: theta'' + sin(theta) = kappa*u, |u| <= 1, x = (theta, omega), theta = 0
+Convention of `ocp.core.model`: theta'' + sin(theta) = kappa*u, |u| <= 1, x = (theta, omega), theta = 0
 hanging, theta = pi upright. On an arc of constant u the invariant omega^2/2 - cos(theta) -
 kappa*u*theta gives
 
@@ -28,14 +28,17 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 from scipy.special import ellipk, sici
 
-from .verify import Reproduction
+from ..core.problem import KINDS
 
 EPS = np.finfo(float).eps
-_KINDS = {"swing-up": ((0.0, 0.0), (math.pi, 0.0)), "damping": ((math.pi, 0.0), (0.0, 0.0))}
+
+
+def _ends(kind):
+    """(start, target) of the standard transfer of `kind` (`ocp.core.problem.KINDS`)."""
+    return KINDS[kind].start, (KINDS[kind].target_base, 0.0)
 
 
 # --- quadrature ---------------------------------------------------------------------------------
@@ -166,8 +169,8 @@ class BangBang:
 
 
 def _check_kind(kind):
-    if kind not in _KINDS:
-        raise ValueError(f"unknown kind {kind!r}; accepted: {', '.join(_KINDS)}")
+    if kind not in KINDS:
+        raise ValueError(f"unknown kind {kind!r}; accepted: {', '.join(KINDS)}")
 
 
 def _reversed(bb):
@@ -196,7 +199,7 @@ def one_switch(kind, kappa):
     theta1 = math.pi / 2 + 1 / kappa
     omega1 = math.sqrt(kappa * math.pi - 2 * math.sin(1 / kappa))
     up, down = arc(+1, 0.0, 0.0, 0.0, kappa, theta1), arc(-1, math.pi, 0.0, 0.0, kappa, theta1)
-    bb = BangBang("swing-up", kappa, _KINDS["swing-up"][0], _KINDS["swing-up"][1], +1, (up.t,),
+    bb = BangBang("swing-up", kappa, *_ends("swing-up"), +1, (up.t,),
                   ((theta1, omega1),), up.t + down.t, error=float(up.error + down.error + 8 * EPS * omega1))
     return bb if kind == "swing-up" else _reversed(bb)
 
@@ -232,7 +235,7 @@ def three_arc_time(rho, kappa):
             + arc(+1, rho, 0.0, 0.0, kappa, e).t + arc(-1, math.pi, 0.0, 0.0, kappa, e).t)
 
 
-def _stationarity_term(rho, x, kappa):
+def stationarity_term(rho, x, kappa):
     """d/drho of T_+(rho, 0, 0, kappa; x) at fixed x > rho, with F = F(., rho):
         -1/F(x) + int_rho^x (sin(u) - sin(rho)) / F(u)^3 du;
     with u = rho + L sigma^2, L = x - rho, d = u - rho, F^2 = 2 d q_rho(u), the integral is
@@ -258,7 +261,7 @@ def stationarity(rho, kappa):
     The paper prints 1/F(xi) + 1/F(eta) + int_xi^rho (sin rho - sin u)/F^3 du + (same at eta) = 0
     with its imaginary F = i|omega|: that is -i times this one, so both have the same root rho.
     Returns (value, error bound)."""
-    (a, ea), (b, eb) = (_stationarity_term(rho, x, kappa) for x in (xi(rho, kappa), eta(rho, kappa)))
+    (a, ea), (b, eb) = (stationarity_term(rho, x, kappa) for x in (xi(rho, kappa), eta(rho, kappa)))
     return a + b, ea + eb
 
 
@@ -300,7 +303,7 @@ def _two_switch_at(rho, kappa):
             arc(+1, rho, 0.0, 0.0, kappa, e), arc(-1, math.pi, 0.0, 0.0, kappa, e))
     t1 = arcs[0].t
     t2 = t1 + arcs[1].t + arcs[2].t
-    return BangBang("swing-up", kappa, _KINDS["swing-up"][0], _KINDS["swing-up"][1], -1, (t1, t2),
+    return BangBang("swing-up", kappa, *_ends("swing-up"), -1, (t1, t2),
                     ((x, -F(x, rho, kappa)), (e, F(e, rho, kappa))), t2 + arcs[3].t, rho,
                     sum(a.error for a in arcs))
 
@@ -358,7 +361,7 @@ def two_switch_range():
 # --- solved results against the formulas ---------------------------------------------------------
 
 def formula_for(problem, branch, n_switches, first_u):
-    """The analytic transfer of `problem` (an ocp.problems.Problem) to target branch `branch` with
+    """The analytic transfer of `problem` (an ocp.core.problem.Problem) to target branch `branch` with
     the given structure, in the problem's own frame, or None where no formula applies. Formulas:
     one_switch and two_switch, from (0, 0) to (pi, 0) and from (pi, 0) to (0, 0), carried to
     x0 = (theta0, 0) and target theta_T by the symmetry theta = c + sigma*theta', omega =
@@ -366,7 +369,7 @@ def formula_for(problem, branch, n_switches, first_u):
     theta0 = 0 mod 2*pi for swing-up and pi mod 2*pi for damping, e.g. swing-up to -pi, damping from
     -pi); one switch needs kappa > one_switch_bound(), two switches (u' = -1, +1, -1)
     two_switch_range()."""
-    start, end = (v[0] for v in _KINDS[problem.kind])
+    start, end = (v[0] for v in _ends(problem.kind))
     theta0, omega0 = problem.x0
     sigma = (problem.target(branch)[0] - theta0) / (end - start)
     c = theta0 - sigma * start
@@ -403,111 +406,24 @@ class Crosscheck:
     max_deviation: float
 
 
-def crosscheck(result, branch=None):
-    """Crosscheck of a solved result (attributes problem, branch, n_switches, first_u, switch_times,
-    switch_states, T) against formula_for its problem, branch (`branch` if given, else
-    result.branch) and structure; None where none applies."""
-    branch = result.branch if branch is None else branch
-    bb = formula_for(result.problem, branch, result.n_switches, result.first_u)
+def crosscheck(problem, extremal):
+    """Crosscheck of a solved extremal of `problem` (attributes branch, signs, switch_times,
+    switch_states, T) against formula_for its problem, branch and structure; None where none
+    applies."""
+    bb = formula_for(problem, extremal.branch, len(extremal.signs) - 1, extremal.signs[0])
     if bb is None:
         return None
-    times = tuple(t - a for t, a in zip(result.switch_times, bb.switch_times))
-    states = tuple((x[0] - a[0], x[1] - a[1]) for x, a in zip(result.switch_states, bb.switch_states))
-    T = result.T - bb.T
+    times = tuple(t - a for t, a in zip(extremal.switch_times, bb.switch_times))
+    states = tuple((x[0] - a[0], x[1] - a[1]) for x, a in zip(extremal.switch_states, bb.switch_states))
+    T = extremal.T - bb.T
     name = f"{'one' if bb.n_switches == 1 else 'two'}-switch {bb.kind} (Finch 2015), kappa = {bb.kappa}"
     deviation = max(abs(v) for v in (*times, *(v for x in states for v in x), T))
     return Crosscheck(name, bb, times, states, T, deviation)
 
 
-# --- the paper's printed values --------------------------------------------------------------------
+# --- constants ---------------------------------------------------------------------------------
 
 def gibbs_constant():
     """G = int_0^pi sin(z)/z dz = Si(pi) = sum_j (-1)^j pi^(2j+1) / ((2j+1)(2j+1)!) = 1.8519370519...
     (scipy.special.sici); the damping bifurcation values behave like G/(2n) (Ovseevich 2014)."""
     return float(sici(math.pi)[0])
-
-
-def shooting_time(kappa, t1_bounds):
-    """Independent of every quadrature here: the least time of u = -1, +1, -1 from (0, 0) to
-    (pi, 0), by DOP853 (rtol = atol = 1e-13) with event detection: u = -1 for t1, u = +1 until
-    omega^2 = 2[cos(theta) + 1 + kappa*(pi - theta)] (the arc into (pi, 0)), u = -1 until omega = 0;
-    T minimised over t1 in t1_bounds (bounded Brent, 1e-6 in t1: T is stationary, so ~1e-11 in T).
-    Returns (T, t1, final state)."""
-    def flow(u, t0, x0, event):
-        event.terminal = True
-        sol = solve_ivp(lambda t, x: (x[1], kappa * u - math.sin(x[0])), (t0, t0 + 100.0), x0,
-                        method="DOP853", rtol=1e-13, atol=1e-13, events=event)
-        return sol.t_events[0][0], sol.y_events[0][0]
-
-    def land(t1):
-        t, x = flow(-1, 0.0, (0.0, 0.0), lambda t, x: t - t1)
-        meet = lambda t, x: x[1] ** 2 - 2 * (math.cos(x[0]) + 1 + kappa * (math.pi - x[0])) if x[1] > 0 else -1.0
-        t, x = flow(+1, t, x, meet)
-        return flow(-1, t, x, lambda t, x: x[1])
-
-    best = minimize_scalar(lambda t1: land(t1)[0], bounds=t1_bounds, method="bounded", options={"xatol": 1e-6})
-    T, x = land(best.x)
-    return T, best.x, x
-
-
-def reproduce():
-    """Every value of reference/finch2015.toml the suite computes: key -> Reproduction."""
-    out = {}
-
-    def put(key, value, accuracy, how, evidence="", erratum=""):
-        out[key] = Reproduction(float(value), float(accuracy), how, evidence, erratum)
-
-    swing = free_swing(math.pi / 2)
-    put("free_swing_time", swing.t, swing.error, "K(m = 1/2) = Gamma(1/4)^2/(4 sqrt(pi)), scipy.special.ellipk")
-    put("free_swing_velocity", swing.omega, 4 * EPS, "-2 sin(pi/4) = -sqrt(2)")
-    down, up = arc(-1, math.pi / 2, 0.0, 0.0, 1.0, 0.0), arc(+1, 0.0, 0.0, 0.0, 1.0, math.pi / 2)
-    put("t_minus_half_pi_to_0", down.t, down.error, "arc(-1, pi/2, 0, 0, 1, 0): quadrature, rest end removed")
-    put("t_plus_0_to_half_pi", up.t, up.error, "arc(+1, 0, 0, 0, 1, pi/2): quadrature, rest end removed")
-    put("omega_minus", down.omega, 8 * EPS, "energy integral: -sqrt(2 + pi) (no ODE solver needed)")
-    put("omega_plus", up.omega, 8 * EPS, "energy integral: sqrt(pi - 2) (no ODE solver needed)")
-
-    k1 = one_switch_bound()
-    put("one_switch_kappa_min", k1, 1e-15, "brentq root of 1 - pi k + sqrt(1 - k^2) + k arcsin k")
-    put("one_switch_phi_min", math.pi - math.asin(k1), 2e-15, "pi - arcsin(kappa_1)")
-    swing_up, damping = one_switch("swing-up", 1.0), one_switch("damping", 1.0)
-    how = "one_switch('{}', {}): switch at (pi/2 + 1/kappa, +-sqrt(kappa pi - 2 sin(1/kappa))), arc quadratures"
-    put("figure1_switch_theta", swing_up.switch_states[0][0], 4 * EPS, "pi/2 + 1/kappa at kappa = 1")
-    put("figure1_switch_omega", swing_up.switch_states[0][1], 8 * EPS, "sqrt(pi - 2 sin 1)")
-    put("t1_swing_up_kappa_1", swing_up.switch_times[0], swing_up.error, how.format("swing-up", 1))
-    put("t_inf_swing_up_kappa_1", swing_up.T, swing_up.error, how.format("swing-up", 1))
-    put("t1_damping_kappa_1", damping.switch_times[0], damping.error, how.format("damping", 1))
-    put("t_inf_damping_kappa_1", damping.T, damping.error, how.format("damping", 1))
-    one = one_switch("swing-up", 0.75)
-    put("t_inf_one_switch_kappa_3_4", one.T, one.error, how.format("swing-up", 0.75))
-
-    half, three_quarters = two_switch("swing-up", 0.5), two_switch("swing-up", 0.75)
-    rho, (x1, w1), (x2, w2) = half.rho, *half.switch_states
-    # the printed numerator with the real F: 1/F(x) + int_rho^x (sin u - sin rho)/F^3 du at x = xi, eta
-    flipped = [_stationarity_term(rho, x, 0.5)[0] + 2 / F(x, rho, 0.5) for x in (x1, x2)]
-    erratum = (f"the printed F(u, rho) = sqrt(-2 kappa (u - rho) - 2[cos u - cos rho]) is imaginary on the middle arc: "
-               f"at kappa = 1/2, rho = {rho:.7f} its radicand is {-w1 ** 2:.6f} = -omega1^2 at u = xi and "
-               f"{-w2 ** 2:.6f} = -omega2^2 at u = eta. With the real F = |omega| = sqrt(+2 kappa (u - rho) + "
-               f"2[cos u - cos rho]) the numerator must be sin u - sin rho (stationarity, checked against finite "
-               f"differences of the three-arc time); with the printed numerator the left side is "
-               f"{sum(flipped):.6f}, not 0, at this rho. Read with complex F = i|omega| the printed equation "
-               f"is -i times the right one, so the printed rho values stand")
-    how2 = "two_switch('swing-up', {}): root of dT/drho (corrected equation), arc quadratures"
-    put("two_switch_half_rho", rho, half.error, how2.format(0.5), erratum=erratum)
-    put("two_switch_3_4_rho", three_quarters.rho, three_quarters.error, how2.format(0.75))
-    for key, bb in (("half", half), ("3_4", three_quarters)):
-        put(f"two_switch_{key}_theta1", bb.switch_states[0][0], bb.error, "xi(rho) = rho/2 + (cos rho - 1)/(2 kappa)")
-        put(f"two_switch_{key}_theta2", bb.switch_states[1][0], bb.error, "eta(rho) = xi(rho) + pi/2 + 1/kappa")
-    for i, name in ((0, "switch1"), (1, "switch2")):
-        put(f"figure2_{name}_theta", half.switch_states[i][0], half.error, how2.format(0.5))
-        put(f"figure2_{name}_omega", half.switch_states[i][1], half.error, how2.format(0.5) + ": -+F(xi or eta, rho)")
-    T, t1, x = shooting_time(0.75, (0.9, 1.1))
-    put("t_inf_two_switch_kappa_3_4", three_quarters.T, three_quarters.error, how2.format(0.75),
-        f"independently, DOP853 shooting (u = -1 for t1, u = +1 to the arc into (pi, 0), u = -1 to rest) "
-        f"minimised over t1 gives T = {T:.11f} at t1 = {t1:.7f}, landing at ({x[0]:.12f}, {x[1]:.1e}); "
-        f"no two-switch transfer arrives by 5.8397 (likely a misprint of 5.8399)")
-    gain = 100 * (one.T - three_quarters.T) / three_quarters.T
-    put("two_switch_gain_kappa_3_4", gain, 1e-11, "100 (t_inf,1 - t_inf,2)/t_inf,2 from the two transfers, in %")
-    G = gibbs_constant()
-    put("gibbs_G", G, 4 * EPS * G, "Si(pi), scipy.special.sici")
-    put("gibbs_G_half", G / 2, 2 * EPS * G, "Si(pi)/2")
-    return out

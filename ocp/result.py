@@ -43,10 +43,11 @@ class DirectClass(enum.IntEnum):
     INACCURATE = 1
     LOCAL_OPTIMUM = 2
     WRONG_STRUCTURE = 3
-    CHATTERING = 4
-    MISSES_TARGET = 5
-    NOT_CONVERGED = 6
-    SOLVER_ERROR = 7
+    BEYOND_HORIZON = 4
+    CHATTERING = 5
+    MISSES_TARGET = 6
+    NOT_CONVERGED = 7
+    SOLVER_ERROR = 8
 
 
 DIRECT_MESSAGES = {
@@ -54,6 +55,7 @@ DIRECT_MESSAGES = {
     DirectClass.INACCURATE: "the optimal structure, but T outside its stated bound",
     DirectClass.LOCAL_OPTIMUM: "another extremal, slower than the optimum: a local optimum",
     DirectClass.WRONG_STRUCTURE: "a structure that no extremal found by the search has",
+    DirectClass.BEYOND_HORIZON: "slower than the horizon of the search: not an optimum, not classified further",
     DirectClass.CHATTERING: "the control is not resolved as bang-bang (chattering or an interior run)",
     DirectClass.MISSES_TARGET: "the solver converged, but its control misses the target when re-simulated",
     DirectClass.NOT_CONVERGED: "the NLP solver did not converge",

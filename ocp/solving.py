@@ -57,8 +57,9 @@ def resimulated_miss(problem, extremal):
     return float(np.hypot(*(end - np.array(problem.target(extremal.branch)))))
 
 
-def classify(direct, answer, ties, extremals):
-    """The DirectClass of a direct solution against the search's answer (and the other extremals)."""
+def classify(direct, answer, ties, extremals, horizon):
+    """The DirectClass of a direct solution against the search's answer, its ties and the other
+    extremals found before `horizon`."""
     status = direct_layer.DirectStatus
     if direct.status == status.SOLVER_ERROR:
         return DirectClass.SOLVER_ERROR
@@ -74,16 +75,16 @@ def classify(direct, answer, ties, extremals):
         return DirectClass.OPTIMUM if bound is None or abs(direct.T - answer.T) <= bound else DirectClass.INACCURATE
     if any(same(e) for e in extremals):
         return DirectClass.LOCAL_OPTIMUM
-    return DirectClass.WRONG_STRUCTURE
+    return DirectClass.BEYOND_HORIZON if direct.T > horizon else DirectClass.WRONG_STRUCTURE
 
 
 def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=direct_layer.MISS_TOL,
-          search=True, trusted=False):
+          search=True, trusted=False, margin=MARGIN):
     """The minimum-time Solution of `problem` (see the module doc).
 
     method, solver, options, guess, miss_tol, trusted: the direct transcription (`ocp.direct.solve`),
     run only when `method` is given or `search` is False; the answer comes from the search unless
-    `search` is False."""
+    `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least."""
     if not isinstance(problem, Problem):
         raise InputError(f"problem must be an ocp Problem (ocp.swing_up, ocp.damping), not {type(problem).__name__}")
     start = time.perf_counter()
@@ -101,9 +102,9 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
                         None, crosscheck, direct, None, (), 0.0, 0.0, direct_time, time.perf_counter() - start)
     horizon = None
     if direct is not None and direct.success and math.isfinite(direct.T):
-        horizon = direct.T * (1 + MARGIN) / (1 - HORIZON_BAND)
+        horizon = direct.T * (1 + margin) / (1 - HORIZON_BAND)
     begun = time.perf_counter()
-    found = search_extremals(problem, horizon)
+    found = search_extremals(problem, horizon, margin)
     search_time = time.perf_counter() - begun
     answer, ties, runner_up = _ranked(found.arrivals)
     begun = time.perf_counter()
@@ -122,7 +123,8 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
         else:
             status = SolveStatus.BEST_FOUND
     certificate_time = time.perf_counter() - begun
-    direct_class = None if direct is None or answer is None else classify(direct, answer, ties, found.arrivals)
+    direct_class = None if direct is None or answer is None else classify(direct, answer, ties, found.arrivals,
+                                                                          found.coverage.horizon)
     return Solution(problem, status, answer, ties, runner_up, found.arrivals, found.coverage, miss, certificate,
                     crosscheck, direct, direct_class, found.notes, search_time, certificate_time, direct_time,
                     time.perf_counter() - start)

@@ -106,13 +106,15 @@ def test_outcome_against_the_search_reference():
     tie = {"arc_signs": [-1, 1], "branch": -1, "T": 4.0}
     other = {"arc_signs": [1, -1, 1], "branch": 0, "T": 5.0}
     ref = {"T": 4.0, "T_error": 1e-14, "source": "test", "arc_signs": [1, -1], "switch_times": [3.0], "branch": 0,
-           "ties": [tie], "extremals": [dict(tie), other]}
+           "ties": [tie], "extremals": [dict(tie), other], "horizon": 8.0}
     run = {"status": "verified", "direct_status": 0, "success": True, "bang_bang": True, "T": 4.001,
            "T_error": 0.002, "arc_signs": [-1, 1], "branch": -1, "switch_times": [3.001], "total_time_s": 1.0}
     assert runner.score(run, ref, case, 60)["outcome"] == "ok"                 # the mirror image ties
     assert runner.score(dict(run, branch=0), ref, case, 60)["outcome"] == "wrong structure"
     assert runner.score(dict(run, T=5.0, branch=0, arc_signs=[1, -1, 1]), ref, case, 60)["outcome"] == "local optimum"
     assert runner.score(dict(run, T=4.01), ref, case, 60)["outcome"] == "inaccurate"
+    assert runner.score(dict(run, T=9.0, branch=0, arc_signs=[1, -1, 1, -1]), ref, case, 60)["outcome"] == \
+        "beyond horizon"
     assert runner.score(run, ref, case, 0.5)["outcome"] == "time limit"
     assert runner.score(dict(run, success=False, direct_status=1), ref, case, 60)["outcome"] == "misses target"
     best = report.best_known([dict(runner.score(run, ref, case, 60), problem="p", family="MS")])

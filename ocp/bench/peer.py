@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import direct
 from ..core.errors import last_line
-from ..core.problem import CONTROL_BOUNDS, dynamics, terminal_constraints
+from ..core.problem import CONTROL_BOUNDS, dynamics, terminal_bounds, terminal_constraints
 from ..direct.solve import best_of, verified
 
 MISSING = "rockit is not installed (pip install 'ocp[peer]', i.e. rockit-meco): its runs are skipped"
@@ -37,9 +37,15 @@ def _ocp(problem, method, T_guess):
     oc.subject_to(CONTROL_BOUNDS[0] <= (u <= CONTROL_BOUNDS[1]))
     oc.subject_to(oc.at_t0(theta) == problem.x0[0])
     oc.subject_to(oc.at_t0(omega) == problem.x0[1])
+    for name, value in terminal_bounds(problem.reading, problem.nlp_target).items():
+        if value is not None:
+            oc.subject_to(oc.at_tf({"theta": theta, "omega": omega}[name]) == value)
     for expression, lower, upper in terminal_constraints(problem.reading, oc.at_tf(theta), oc.at_tf(omega),
                                                          problem.nlp_target):
-        oc.subject_to(expression == lower) if lower == upper else oc.subject_to(expression >= lower)
+        if lower == upper:
+            oc.subject_to(expression == lower)
+        else:
+            oc.subject_to(expression >= lower)
     oc.add_objective(oc.T)
     settings = method.transcription_object()
     oc.method(rockit.MultipleShooting(N=settings.N, M=settings.M, intg="rk"))

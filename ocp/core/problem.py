@@ -8,7 +8,7 @@ swing-up, the hanging (2*pi*k, 0) for damping. A problem is read on the circle (
 any branch counts, the result says which was reached) or on the plane (`branch=k`: only that
 target counts; the angle is a coordinate on the line). The two readings have different optima.
 Every transcription and the peer take the dynamics, the control bounds and the terminal set from
-here (`CONTROL_BOUNDS`, `terminal_constraints`).
+here (`dynamics`, `CONTROL_BOUNDS`, `terminal_bounds`, `terminal_constraints`).
 """
 
 import math
@@ -40,16 +40,21 @@ OMEGA_LIMIT = 50.0
 READINGS = ("circle", "plane")
 
 
+def terminal_bounds(reading, target):
+    """The components of x(T) that the target set fixes: omega(T) = 0, and on the plane
+    theta(T) = target (the pinned angle); None where free."""
+    return {"theta": target if reading == "plane" else None, "omega": 0.0}
+
+
 def terminal_constraints(reading, theta, omega, target):
-    """[(expression, lower, upper)] of x(T) in the target set, symbolic (CasADi) in theta = theta(T),
-    omega = omega(T): on the circle `target` is the base angle and any branch counts,
-    sin(theta - target) = 0, cos(theta - target) >= 0; on the plane `target` is the pinned angle,
-    theta = target. Both need omega = 0."""
+    """[(expression, lower, upper)]: the rest of x(T) in the target set, symbolic (CasADi) in
+    theta = theta(T): on the circle `target` is the base angle and any branch counts,
+    sin(theta - target) = 0, cos(theta - target) >= 0; nothing more on the plane."""
     import casadi as ca
 
     if reading == "circle":
-        return [(ca.sin(theta - target), 0.0, 0.0), (ca.cos(theta - target), 0.0, math.inf), (omega, 0.0, 0.0)]
-    return [(theta - target, 0.0, 0.0), (omega, 0.0, 0.0)]
+        return [(ca.sin(theta - target), 0.0, 0.0), (ca.cos(theta - target), 0.0, math.inf)]
+    return []
 
 
 dynamics = model.rhs

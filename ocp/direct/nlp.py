@@ -3,7 +3,8 @@
     w = [z_0, u_0, c_0, z_1, u_1, c_1, ..., z_N],  z_k = (theta_k, omega_k, T_k),  c_k the stage's
     extra variables;  p = (kappa, target);
     minimise T_0  s.t.  stage constraints,  z_{k+1} = (x at the end of stage k, T_k),
-                        z_0 = (x0, T_0) (bounds),  x(T) in the target set (`terminal_constraints`).
+                        z_0 = (x0, T_0) (bounds),  x(T) in the target set (`terminal_bounds`
+                        on z_N, `terminal_constraints`).
 
 A built NLP depends only on the transcription, the solver and its options, and the reading
 (circle or plane): kappa, x0, the target angle and the initial guess are solve-time inputs, so
@@ -19,7 +20,7 @@ import numpy as np
 
 from ..core.cache import cached
 from ..core.errors import InputError, last_line
-from ..core.problem import CONTROL_BOUNDS, terminal_constraints
+from ..core.problem import CONTROL_BOUNDS, terminal_bounds, terminal_constraints
 from .base import Transcription
 
 #: NLP plugins tried by `available_solvers`
@@ -60,14 +61,19 @@ class NLP:
             w[i_u + 1 + 2 * j], w[i_u + 2 + 2 * j] = theta[:-1], omega[:-1]
         return w
 
-    def bounds(self, x0, T_bounds):
-        """lbx, ubx: z_0 fixed to x0, u in CONTROL_BOUNDS, T in T_bounds."""
+    def bounds(self, x0, target, T_bounds):
+        """lbx, ubx: z_0 fixed to x0, u in CONTROL_BOUNDS, T in T_bounds, z_N as the target set fixes
+        it (`terminal_bounds`)."""
         lbx, ubx = np.full(self.n_w, -np.inf), np.full(self.n_w, np.inf)
         i_th, i_om, i_T, i_u = self.index()
         lbx[i_u], ubx[i_u] = CONTROL_BOUNDS
         lbx[i_T], ubx[i_T] = T_bounds
         lbx[i_th[0]] = ubx[i_th[0]] = x0[0]
         lbx[i_om[0]] = ubx[i_om[0]] = x0[1]
+        fixed = terminal_bounds(self.reading, target)
+        for index, name in ((i_th[-1], "theta"), (i_om[-1], "omega")):
+            if fixed[name] is not None:
+                lbx[index] = ubx[index] = fixed[name]
         return lbx, ubx
 
 

@@ -178,7 +178,7 @@ def verified(problem, method, settings, t, x, u, converged, solver_message, iter
 def _run(nlp, problem, guess, miss_tol):
     N = nlp.N
     theta, omega, u = guess.on_grid(N)
-    lbx, ubx = nlp.bounds(problem.x0, (0.5 * problem.lower_bound, math.inf))
+    lbx, ubx = nlp.bounds(problem.x0, problem.nlp_target, (0.5 * problem.lower_bound, math.inf))
     w0 = np.clip(nlp.pack(theta, omega, guess.T, u), lbx, ubx)
     start = time.perf_counter()
     converged = None

@@ -434,10 +434,10 @@ def scan(problem, horizon):
     return arrivals, coverage
 
 
-def search(problem, horizon=None):
+def search(problem, horizon=None, margin=MARGIN):
     """The complete Search of `problem`: scans with a horizon growing by GROWTH from
-    GROWTH * problem.lower_bound (or from `horizon`, e.g. a feasible time known) until an arrival is found,
-    then once more to the best time times (1 + MARGIN) if the scan stopped short of it."""
+    GROWTH * problem.lower_bound (or from `horizon`, e.g. a feasible time known) until an arrival
+    is found, then once more to the best time times (1 + margin) if the scan stopped short of it."""
     k = problem.at_target()
     if k is not None:
         on_target = Extremal(k, math.nan, 0.0, (), (), (), (math.nan, math.nan), 0.0, 0.0, "exact")
@@ -447,7 +447,7 @@ def search(problem, horizon=None):
     while True:
         arrivals, coverage = scan(problem, horizon)
         if arrivals:
-            wanted = arrivals[0].T * (1 + MARGIN) / (1 - HORIZON_BAND)
+            wanted = arrivals[0].T * (1 + margin) / (1 - HORIZON_BAND)
             if horizon >= wanted:
                 return Search(tuple(arrivals), coverage, tuple(notes))
             notes.append(f"scanned to {horizon:.4g}, extended to {wanted:.4g} for the runner-up")

@@ -1,0 +1,108 @@
+"""`ocp bench` and `ocp report`: the command-line side of the benchmark suite.
+
+    ocp bench [SUITE] [--store PATH] [--jobs N | --scheduler ADDRESS] [--json]
+    ocp report STORE [--out DIR] [--budget SECONDS] [--accuracy ERROR] [--format png,pdf] [--json]
+
+`ocp bench` runs a suite (default "quick") into a SQLite store, resuming what is already there,
+with a progress bar on stderr and a summary table at the end; `ocp report` draws tables and
+charts from a store alone.
+"""
+
+import time
+from pathlib import Path
+
+from ..core.errors import InputError, finite
+from . import report as report_module
+from . import runner, suite as suite_module
+from .environment import environment
+from .store import Store
+
+
+def add_commands(sub):
+    p = sub.add_parser("bench", help="run a benchmark suite (cases x methods) into a results store")
+    p.add_argument("suite", nargs="?", default="quick",
+                   help="a suite name in benchmarks/ (quick, full) or a TOML file; default quick")
+    p.add_argument("--store", help="the SQLite results file (default ocp-bench-SUITE.sqlite); "
+                                   "pairs already in it are not run again")
+    p.add_argument("--jobs", default="1", help="local worker processes, default 1")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on the Dask distributed scheduler at ADDRESS (e.g. tcp://host:8786) instead")
+    p.add_argument("--json", action="store_true", help="print one JSON object (summary, environment)")
+    p.set_defaults(run=run_bench)
+    p = sub.add_parser("report", help="tables and charts from a benchmark results store")
+    p.add_argument("store", help="the SQLite results file written by ocp bench")
+    p.add_argument("--out", help="folder for charts, summary.md, results.csv and results.json "
+                                 "(default: STORE without .sqlite, plus -report)")
+    p.add_argument("--budget", default="1.0", help="time budget (s) of the accuracy profile, default 1")
+    p.add_argument("--accuracy", default="1e-4", help="|T - T_ref| target of the time profile, default 1e-4")
+    p.add_argument("--format", default="png", help="chart formats, comma separated (png, pdf, svg); default png")
+    p.add_argument("--json", action="store_true", help="print the tables as one JSON object")
+    p.set_defaults(run=run_report)
+
+
+def run_bench(args):
+    from ..core.output import print_json, solver_output
+
+    suite = suite_module.load(args.suite)
+    try:
+        jobs = int(args.jobs)
+    except ValueError:
+        jobs = 0
+    if jobs < 1:
+        raise InputError(f"jobs = {args.jobs!r} must be an integer >= 1 (local worker processes)")
+    store = Store(args.store or f"ocp-bench-{suite.name}.sqlite")
+    start = time.perf_counter()
+    env = environment()
+    try:
+        with runner.executor(jobs, args.scheduler) as (pool, workers, name), solver_output("stderr"):
+            result = runner.run(suite, store, pool, workers, name, env)
+    except KeyboardInterrupt:
+        rows = len(store.done())
+        store.close()
+        print(f"interrupted: {rows} finished rows are kept in {store.path}; "
+              f"the same command resumes where it stopped")
+        return 130
+    keys = {(c.key, m.key) for c, m in suite.pairs()}
+    records = [r for r in store.results() if (r["case"], r["method"]) in keys]
+    store.close()
+    best = report_module.best_known(records)
+    summary = {
+        "suite": suite.name, "store": str(store.path), "session": result["session"], "executor": result["executor"],
+        "pairs": len(suite.pairs()), "run_now": len(result["records"]), "resumed": result["resumed"],
+        "notes": result["notes"], "elapsed_s": time.perf_counter() - start,
+        "outcomes": report_module.outcome_counts(records), "methods": report_module.method_table(records, best),
+        "failures": report_module.failure_table(records), "environment": env,
+    }
+    if args.json:
+        print_json(summary)
+        return 0
+    for note in result["notes"]:
+        print(f"note: {note}")
+    print(f"suite {suite.name}: {summary['pairs']} runs ({summary['run_now']} now, {summary['resumed']} already "
+          f"stored) in {summary['elapsed_s']:.0f} s, {result['executor']}; store {store.path}")
+    print(f"outcomes: {', '.join(f'{k} {v}' for k, v in summary['outcomes'].items())}\n")
+    print(report_module.markdown(summary["methods"]))
+    print(f"charts and failure table: ocp report {store.path}")
+    return 0
+
+
+def run_report(args):
+    from ..core.output import print_json
+
+    formats = tuple(f.strip() for f in args.format.split(",") if f.strip())
+    bad = [f for f in formats if f not in ("png", "pdf", "svg")]
+    if bad or not formats:
+        raise InputError(f"format {args.format!r}: accepted png, pdf, svg (comma separated)")
+    budget = finite("budget", args.budget, "a number of seconds > 0")
+    accuracy = finite("accuracy", args.accuracy, "a number > 0")
+    if budget <= 0 or accuracy <= 0:
+        raise InputError("budget and accuracy must be > 0")
+    store = Path(args.store)
+    out = Path(args.out) if args.out else store.with_name(store.stem + "-report")
+    tables = report_module.report(store, out, budget, accuracy, formats)
+    if args.json:
+        print_json(tables)
+        return 0
+    print(report_module.summary_markdown(tables))
+    print("written: " + ", ".join(tables["files"]))
+    return 0

@@ -1,0 +1,63 @@
+"""The machine and software a benchmark ran on, recorded beside its results."""
+
+import datetime
+import importlib.metadata
+import os
+import platform
+import subprocess
+from pathlib import Path
+
+import casadi as ca
+
+from ..direct import INTEGRATORS
+from ..direct.nlp import available_solvers
+
+#: distributions whose versions are recorded (absent ones are recorded as None)
+PACKAGES = ("ocp", "casadi", "numpy", "scipy", "matplotlib", "rockit-meco", "dask", "distributed")
+
+
+def _version(name):
+    try:
+        return importlib.metadata.version(name)
+    except importlib.metadata.PackageNotFoundError:
+        return None
+
+
+def _cpu():
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def _git_commit():
+    """HEAD of the checkout ocp runs from, with "+dirty" when files differ from it; None outside git."""
+    root = Path(__file__).resolve().parents[2]
+    try:
+        head = subprocess.run(["git", "-C", root, "rev-parse", "HEAD"], capture_output=True, text=True, check=True)
+        dirty = subprocess.run(["git", "-C", root, "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, check=True)
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return head.stdout.strip() + ("+dirty" if dirty.stdout.strip() else "")
+
+
+def environment():
+    """Plain data: time (UTC), git commit, Python, package versions, CasADi plugins that load,
+    CPU model, core count and load average (1, 5, 15 min)."""
+    return {
+        "time_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "git_commit": _git_commit(),
+        "python": platform.python_version(),
+        "implementation": platform.python_implementation(),
+        "platform": platform.platform(),
+        "packages": {name: _version(name) for name in PACKAGES},
+        "casadi_nlpsol_plugins": available_solvers(),
+        "casadi_integrator_plugins": [name for name in INTEGRATORS if name != "rk4" and ca.has_integrator(name)],
+        "cpu": _cpu(),
+        "cores": os.cpu_count(),
+        "load_average": list(os.getloadavg()),
+    }

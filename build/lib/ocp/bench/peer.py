@@ -1,0 +1,97 @@
+"""The peer: rockit (`pip install rockit-meco`, the `peer` extra), solving the same cases with its own
+multiple shooting (`rockit.MultipleShooting(N, M, intg="rk")`, free final time), from the same
+initial guesses, verified by ocp's independent re-simulation, read by ocp's structure reader.
+
+Like `ocp.direct.solve`, every guess is solved and the best verified answer kept; the NLP is
+transcribed once per call (rockit has no cache across calls), and that is its build time.
+"""
+
+import importlib.util
+import time
+
+import numpy as np
+
+from .. import direct
+from ..core.errors import last_line
+from ..core.problem import CONTROL_BOUNDS, dynamics, terminal_bounds, terminal_constraints
+from ..direct.solve import best_of, verified
+
+MISSING = "rockit is not installed (pip install 'ocp[peer]', i.e. rockit-meco): its runs are skipped"
+
+
+def available():
+    return importlib.util.find_spec("rockit") is not None
+
+
+def _ocp(problem, method, T_guess):
+    """The rockit Ocp of `problem`: dynamics, control bounds and terminal set as declared in
+    `ocp.core.problem`."""
+    import casadi as ca
+    import rockit
+
+    oc = rockit.Ocp(T=rockit.FreeTime(T_guess))
+    theta, omega, u = oc.state(), oc.state(), oc.control()
+    f = dynamics(ca.vertcat(theta, omega), u, problem.kappa)
+    oc.set_der(theta, f[0])
+    oc.set_der(omega, f[1])
+    oc.subject_to(CONTROL_BOUNDS[0] <= (u <= CONTROL_BOUNDS[1]))
+    oc.subject_to(oc.at_t0(theta) == problem.x0[0])
+    oc.subject_to(oc.at_t0(omega) == problem.x0[1])
+    for name, value in terminal_bounds(problem.reading, problem.nlp_target).items():
+        if value is not None:
+            oc.subject_to(oc.at_tf({"theta": theta, "omega": omega}[name]) == value)
+    for expression, lower, upper in terminal_constraints(problem.reading, oc.at_tf(theta), oc.at_tf(omega),
+                                                         problem.nlp_target):
+        if lower == upper:
+            oc.subject_to(expression == lower)
+        else:
+            oc.subject_to(expression >= lower)
+    oc.add_objective(oc.T)
+    settings = method.transcription_object()
+    oc.method(rockit.MultipleShooting(N=settings.N, M=settings.M, intg="rk"))
+    options = {"expand": True, "print_time": False}
+    if method.solver == "ipopt":
+        options.update({"ipopt.print_level": 0, "ipopt.sb": "yes"})
+    oc.solver(method.solver, dict(options, **method.options))
+    return oc, (theta, omega, u)
+
+
+def solve(problem, method, guess=None, miss_tol=direct.MISS_TOL):
+    """An ocp `Solution` of `problem` by rockit; `guess` None (ocp's default starts) or a Guess.
+    Returns (solution, (n_w, n_g)), the NLP size as rockit built it."""
+    start = time.perf_counter()
+    settings = method.transcription_object()
+    guesses = direct.default_guesses(problem, settings.N) if guess is None else [guess]
+    oc, (theta, omega, u) = _ocp(problem, method, guesses[0].T)
+    oc._transcribe()           # rockit transcribes lazily on solve; done here so the build is timed alone
+    build_time = time.perf_counter() - start
+    runs = []
+    opti = oc._method.opti
+    # rockit's own set_initial of a sampled array takes seconds (it evaluates an interpolant at
+    # every node symbolically); the grid values go straight to the Opti variables instead
+    nodes = [oc.sample(v, grid="control")[1] for v in (oc.T, theta, omega, u)]
+    N = settings.N
+    for g in guesses:
+        for var, values, n in zip(nodes, (g.T, *g.on_grid(N)), (1, N + 1, N + 1, N)):
+            opti.set_initial(var[:, :n], values)
+        runs.append(_run(oc, (theta, omega, u), problem, method, g, miss_tol))
+    return best_of(runs, build_time, time.perf_counter() - start), (opti.nx, opti.ng)
+
+
+def _run(oc, variables, problem, method, guess, miss_tol):
+    theta, omega, u = variables
+    start = time.perf_counter()
+    try:
+        sol = oc.solve()
+        stats = sol.stats
+    except RuntimeError as err:       # rockit raises when the solver does not succeed
+        sol, stats = oc.non_converged_solution, {"return_status": f"not converged: {last_line(err)}"}
+    solve_time = time.perf_counter() - start
+    stats = dict(oc._method.opti.stats(), **stats)
+    settings = method.transcription_object()
+    t = np.linspace(0.0, float(sol.value(oc.T)), settings.N + 1)
+    x = np.column_stack([sol.sample(theta, grid="control")[1], sol.sample(omega, grid="control")[1]])
+    info = dict(method.to_dict(), transcription="rockit multiple shooting", integrator="rk")
+    return verified(problem, info, None, t, x, np.clip(sol.sample(u, grid="control")[1][:-1], -1.0, 1.0),
+                    bool(stats.get("success", False)), str(stats.get("return_status")),
+                    int(stats.get("iter_count", -1)), miss_tol, solve_time, guess.label, problem.branch)

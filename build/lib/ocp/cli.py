@@ -1,0 +1,192 @@
+"""The `ocp` command line: one line per common job, `--json` for scripts.
+
+Exit status: 0 done; 1 a solve that failed (with --json, still one object, "success": false) or a
+fault of the environment (a folder not writable, a full disk, a corrupted store); 2 bad input (one
+line says what was wrong and what is accepted). No traceback reaches the user.
+"""
+
+import argparse
+import json
+import os
+import re
+import sys
+
+from .core.errors import Fault, InputError
+
+#: direct-transcription flags of `ocp solve` -> the transcription setting they give
+DIRECT_SETTINGS = {"N": "N", "integrator": "integrator", "M": "M", "tol": "tol", "degree": "degree"}
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, with a usage error as one line and exit status 2, and negative numbers in
+    e-notation (-1e-3) read as numbers, not options."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+    def error(self, message):
+        raise InputError(f"{self.prog}: {message}")
+
+
+def _option(text):
+    """KEY=VALUE for the NLP solver; VALUE read as JSON where it parses (numbers, true, lists)."""
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError(f"{text!r} is not KEY=VALUE (e.g. ipopt.tol=1e-10)")
+    try:
+        return key, json.loads(value)
+    except (json.JSONDecodeError, RecursionError):
+        return key, value
+
+
+def _add_solve(sub):
+    from .core.problem import KINDS
+
+    p = sub.add_parser("solve", help="the minimum-time swing-up or damping: complete search of extremals, "
+                                     "and a direct transcription on request")
+    p.add_argument("problem", help=f"one of: {', '.join(KINDS)}")
+    p.add_argument("--kappa", required=True, help="torque bound tau0/(m g l)")
+    p.add_argument("--x0", nargs=2, metavar=("THETA", "OMEGA"), help="initial state (rad, rad per unit time)")
+    reading = p.add_mutually_exclusive_group()
+    reading.add_argument("--branch", help="solve on the plane, target branch K pinned (swing-up: pi + 2 pi K, "
+                                          "damping: 2 pi K); default: the circle, any branch")
+    reading.add_argument("--plane", action="store_true", help="solve on the plane, the standard target (branch 0)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    d = p.add_argument_group("direct transcription (classified against the search's optimum)")
+    d.add_argument("--direct", action="store_true", help="also solve a direct transcription and classify it")
+    d.add_argument("--no-refine", action="store_true",
+                   help="the direct transcription's answer alone: no search, optimality unknown")
+    d.add_argument("--transcription", default="multiple-shooting",
+                   help="multiple-shooting (default) or direct-collocation")
+    d.add_argument("--N", help="intervals, default 100")
+    d.add_argument("--integrator", help="multiple shooting: rk4 (default), cvodes, collocation")
+    d.add_argument("--M", help="rk4 steps or collocation elements per interval, default 4")
+    d.add_argument("--tol", help="cvodes tolerance, default 1e-10")
+    d.add_argument("--degree", help="direct collocation: Radau points per interval, default 3")
+    d.add_argument("--solver", default="ipopt", help="a casadi.nlpsol plugin (ipopt, fatrop, sqpmethod, ...)")
+    d.add_argument("--option", action="append", type=_option, default=[], metavar="KEY=VALUE",
+                   help="an NLP solver option, passed untouched (repeatable), e.g. ipopt.tol=1e-10")
+    d.add_argument("--allow-unsafe-options", action="store_true",
+                   help="permit options that run a program or read or write a file (jit, output_file, ...)")
+    d.add_argument("--miss-tol", help="largest re-simulated miss of a direct answer accepted, default 1e-6")
+    p.set_defaults(run=_run_solve)
+
+
+def _method(args):
+    """The direct transcription the flags ask for, or None (InputError for flags without --direct)."""
+    from . import direct
+    from .core.errors import finite, integer
+
+    given = {name: getattr(args, flag) for flag, name in DIRECT_SETTINGS.items() if getattr(args, flag) is not None}
+    wanted = args.direct or args.no_refine
+    flags = [f"--{f.replace('_', '-')}" for f in ("solver", "transcription") if getattr(args, f) != {
+        "solver": "ipopt", "transcription": "multiple-shooting"}[f]]
+    flags += [f"--{f}" for f in given] + (["--option"] if args.option else []) + (
+        ["--miss-tol"] if args.miss_tol is not None else [])
+    if not wanted:
+        if flags:
+            raise InputError(f"{', '.join(flags)} appl{'ies' if len(flags) == 1 else 'y'} to a direct transcription: "
+                             f"add --direct (classified against the search) or --no-refine (its answer alone)")
+        return None
+    numbers = {"N": lambda v: integer("N", v, "an integer from 2 to 5000", 2, 5000),
+               "M": lambda v: integer("M", v, "an integer from 1 to 64", 1, 64),
+               "degree": lambda v: integer("degree", v, "an integer from 1 to 9", 1, 9),
+               "tol": lambda v: finite("tol", v, "a number in [1e-14, 1e-3]", 1e-14, 1e-3),
+               "integrator": str}
+    return direct.make(args.transcription, **{k: numbers[k](v) for k, v in given.items()})
+
+
+def _run_solve(args):
+    from .core.errors import finite, integer
+    from .core.output import print_json, solver_output
+    from .core.problem import make
+    from .direct.solve import MISS_TOL
+
+    branch = 0 if args.plane else (None if args.branch is None else integer(
+        "branch", args.branch, "an integer k (the target branch)", -10**6, 10**6))
+    problem = make(args.problem, args.kappa, args.x0, branch)
+    method = _method(args)
+    miss_tol = MISS_TOL if args.miss_tol is None else finite("miss-tol", args.miss_tol, "a number in (0, 1)", 1e-15, 1)
+    from . import solving as solve_module
+    with solver_output("stderr"):
+        result = solve_module.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,
+                                    search=not args.no_refine, trusted=args.allow_unsafe_options)
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        print(result.summary())
+    return 0 if result.success else 1
+
+
+def _add_verify(sub):
+    p = sub.add_parser("verify", help="every published value beside the suite's computation of it")
+    p.add_argument("--paper", help="only this paper (see --help for the ids)")
+    p.add_argument("--json", action="store_true", help="one JSON array, a row per value")
+    p.set_defaults(run=_run_verify)
+
+
+def _run_verify(args):
+    from .core.output import print_json
+    from .papers import references, verify
+
+    papers = references.papers()
+    if args.paper is not None and args.paper not in papers:
+        raise InputError(f"unknown paper {args.paper!r}; accepted: {', '.join(papers)}")
+    table = verify.rows(args.paper, progress=sys.stderr)
+    if args.json:
+        print_json(verify.as_dicts(table))
+    else:
+        print(verify.format_table(table))
+    return 0 if all(r.verdict != "disagrees" for r in table) else 1
+
+
+def _add_figures(sub):
+    p = sub.add_parser("figures", help="the papers' figures from the suite's own computations, and the benchmark charts")
+    p.add_argument("--out", default="figures", help="folder for the files, default ./figures")
+    p.add_argument("--only", action="append", metavar="NAME", help="only this figure (repeatable; a wrong name lists them all)")
+    p.add_argument("--format", default="png,pdf", help="comma separated: png, pdf, svg; default png,pdf")
+    p.add_argument("--store", default="ocp-bench-quick.sqlite",
+                   help="the results store of `ocp bench` for the benchmark charts (skipped if absent), "
+                        "default ./ocp-bench-quick.sqlite")
+    p.set_defaults(run=_run_figures)
+
+
+def _run_figures(args):
+    from . import figures
+    from .core.output import solver_output
+
+    with solver_output("stderr"):
+        written = figures.write(args.out, args.only, tuple(f.strip() for f in args.format.split(",")), args.store)
+    for name, paths in written.items():
+        print(f"{name}: {paths}" if isinstance(paths, str) else f"{name}: {', '.join(map(str, paths))}")
+    return 0
+
+
+def main(argv=None):
+    parser = _Parser(prog="ocp", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    _add_solve(sub)
+    _add_verify(sub)
+    _add_figures(sub)
+    from .bench.command import add_commands
+    add_commands(sub)
+    try:
+        args = parser.parse_args(argv)
+        return args.run(args)
+    except InputError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    except Fault as err:
+        print(f"failed: {err}", file=sys.stderr)
+        return 1
+    except BrokenPipeError:          # the reader (e.g. `| head`) stopped reading: not an error of ours
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

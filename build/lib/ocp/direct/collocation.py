@@ -1,0 +1,65 @@
+"""Direct collocation: on interval k the state is the polynomial through x_k and the states
+X_k1..X_kd at the Radau IIA points (unknowns of the NLP, stage k),
+
+    sum_r C[r, j] X_kr = h f(X_kj, u_k)  (j = 1..d),   x_{k+1} = X_kd,
+
+of order 2d - 1 at the nodes.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core import model
+from ..core.errors import integer
+from .base import Transcription
+
+
+def radau_matrices(degree):
+    """C (d+1 x d+1): C[r, j] = l_r'(tau_j) for the Lagrange basis on (0, tau_1..tau_d), the
+    Radau IIA points of `degree`."""
+    import casadi as ca
+
+    tau = np.concatenate([[0.0], ca.collocation_points(degree, "radau")])
+    C = np.zeros((degree + 1, degree + 1))
+    for r in range(degree + 1):
+        basis = np.poly1d([1.0])
+        for m in range(degree + 1):
+            if m != r:
+                basis *= np.poly1d([1.0, -tau[m]]) / (tau[r] - tau[m])
+        C[r] = np.polyder(basis)(tau)
+    return C
+
+
+@dataclass(frozen=True)
+class DirectCollocation(Transcription):
+    """N intervals, each with Radau collocation of `degree` (order 2*degree - 1 at the nodes)."""
+
+    N: int = 100
+    degree: int = 3
+
+    name = "direct-collocation"
+
+    def __post_init__(self):
+        self.check_N()
+        integer("degree", self.degree, "an integer from 1 to 9 (Radau points per interval)", 1, 9)
+
+    @property
+    def extra(self):
+        """Collocation states per stage: 2 per Radau point."""
+        return 2 * self.degree
+
+    def prepare(self):
+        return radau_matrices(self.degree)
+
+    def stage(self, x, u, h, kappa, extra, prepared):
+        d, C = self.degree, prepared
+        X = [x] + [extra[2 * j:2 * j + 2] for j in range(d)]
+        constraints = [sum(C[r, j] * X[r] for r in range(d + 1)) - h * model.rhs(X[j], u, kappa) for j in range(1, d + 1)]
+        return X[d], constraints
+
+    def family(self):
+        return f"DC radau{self.degree}"
+
+    def describe(self):
+        return f"direct collocation, N = {self.N}, Radau degree {self.degree}"

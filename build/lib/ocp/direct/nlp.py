@@ -1,0 +1,163 @@
+"""The NLP of a transcription (`ocp.direct.base`), handed to `casadi.nlpsol`.
+
+    w = [z_0, u_0, c_0, z_1, u_1, c_1, ..., z_N],  z_k = (theta_k, omega_k, T_k),  c_k the stage's
+    extra variables;  p = (kappa, target);
+    minimise T_0  s.t.  stage constraints,  z_{k+1} = (x at the end of stage k, T_k),
+                        z_0 = (x0, T_0) (bounds),  x(T) in the target set (`terminal_bounds`
+                        on z_N, `terminal_constraints`).
+
+A built NLP depends only on the transcription, the solver and its options, and the reading
+(circle or plane): kappa, x0, the target angle and the initial guess are solve-time inputs, so
+one build serves every problem (`build`, cached in `ocp.core.cache`).
+"""
+
+import json
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.cache import cached
+from ..core.errors import InputError, last_line
+from ..core.problem import CONTROL_BOUNDS, terminal_bounds, terminal_constraints
+from .base import Transcription
+
+#: NLP plugins tried by `available_solvers`
+NLP_PLUGINS = ("ipopt", "fatrop", "sqpmethod", "feasiblesqpmethod", "blocksqp", "bonmin", "knitro", "snopt",
+               "worhp", "madnlp", "alpaqa", "qrsqp", "scpgen")
+
+
+@dataclass
+class NLP:
+    """A built NLP: the CasADi solver and the layout of its variables."""
+
+    settings: Transcription
+    solver_name: str
+    options: dict
+    reading: str
+    solver: object
+    n_w: int
+    n_g: int
+    lbg: np.ndarray
+    ubg: np.ndarray
+    build_time_s: float
+
+    @property
+    def N(self):
+        return self.settings.N
+
+    def index(self):
+        """Index arrays into w: theta, omega, T (N+1 each) and u (N)."""
+        node = np.arange(self.N + 1) * (4 + self.settings.extra)
+        return node, node + 1, node + 2, node[:-1] + 3
+
+    def pack(self, theta, omega, T, u):
+        """w from node values; a stage's extra states start at the interval's first node."""
+        w = np.zeros(self.n_w)
+        i_th, i_om, i_T, i_u = self.index()
+        w[i_th], w[i_om], w[i_T], w[i_u] = theta, omega, T, u
+        for j in range(self.settings.extra // 2):
+            w[i_u + 1 + 2 * j], w[i_u + 2 + 2 * j] = theta[:-1], omega[:-1]
+        return w
+
+    def bounds(self, x0, target, T_bounds):
+        """lbx, ubx: z_0 fixed to x0, u in CONTROL_BOUNDS, T in T_bounds, z_N as the target set fixes
+        it (`terminal_bounds`)."""
+        lbx, ubx = np.full(self.n_w, -np.inf), np.full(self.n_w, np.inf)
+        i_th, i_om, i_T, i_u = self.index()
+        lbx[i_u], ubx[i_u] = CONTROL_BOUNDS
+        lbx[i_T], ubx[i_T] = T_bounds
+        lbx[i_th[0]] = ubx[i_th[0]] = x0[0]
+        lbx[i_om[0]] = ubx[i_om[0]] = x0[1]
+        fixed = terminal_bounds(self.reading, target)
+        for index, name in ((i_th[-1], "theta"), (i_om[-1], "omega")):
+            if fixed[name] is not None:
+                lbx[index] = ubx[index] = fixed[name]
+        return lbx, ubx
+
+
+def _nlp(settings, reading):
+    import casadi as ca
+
+    N = settings.N
+    sym = getattr(ca, settings.symbolic)
+    prepared = settings.prepare()
+    z = [sym.sym(f"z{k}", 3) for k in range(N + 1)]
+    u = [sym.sym(f"u{k}") for k in range(N)]
+    kappa, target = sym.sym("kappa"), sym.sym("target")
+    w, g, lbg, ubg = [], [], [], []
+    for k in range(N):
+        extra = sym.sym(f"c{k}", settings.extra)
+        w += [z[k], u[k], extra]
+        end, own = settings.stage(z[k][:2], u[k], z[k][2] / N, kappa, extra, prepared)
+        for c in own + [z[k + 1] - ca.vertcat(end, z[k][2])]:
+            g.append(c)
+            lbg += [0.0] * c.numel()
+            ubg += [0.0] * c.numel()
+    w.append(z[N])
+    for expression, lower, upper in terminal_constraints(reading, z[N][0], z[N][1], target):
+        g.append(expression)
+        lbg.append(lower)
+        ubg.append(upper)
+    nlp = {"x": ca.vertcat(*w), "f": z[0][2], "g": ca.vertcat(*g), "p": ca.vertcat(kappa, target)}
+    return nlp, np.array(lbg), np.array(ubg)
+
+
+def _solver_options(solver_name, options, settings, lbg, ubg):
+    """Quiet defaults under the user's options (which win): expand where the integrator allows it,
+    print levels off; fatrop is told which constraints are equalities."""
+    opts = dict(options)
+    if settings.symbolic == "SX":
+        opts.setdefault("expand", True)
+    opts.setdefault("print_time", False)
+    if solver_name == "ipopt":
+        opts.setdefault("ipopt.print_level", 0)
+        opts.setdefault("ipopt.sb", "yes")
+    elif solver_name == "fatrop":
+        opts.setdefault("structure_detection", "auto")
+        opts.setdefault("equality", [bool(lo == hi) for lo, hi in zip(lbg, ubg)])
+        opts.setdefault("fatrop.print_level", 0)
+    elif solver_name in ("sqpmethod", "feasiblesqpmethod"):
+        opts.setdefault("print_header", False)
+        opts.setdefault("print_iteration", False)
+        opts.setdefault("qpsol", "qrqp")
+        opts.setdefault("qpsol_options", {"print_iter": False, "print_header": False, "error_on_fail": False})
+        opts.setdefault("hessian_approximation", "exact")
+    elif solver_name == "bonmin":
+        opts.setdefault("bonmin.print_level", 0)
+    return opts
+
+
+def build(settings, solver_name="ipopt", options=None, reading="circle"):
+    """The NLP of `settings` for `reading`, handed to casadi.nlpsol(solver_name, options): cached
+    per arguments (`ocp.core.cache.clear` forgets it). `options` pass to nlpsol untouched, over
+    quiet defaults; the caller has checked them (`ocp.direct.options.checked`)."""
+    import casadi as ca
+
+    if not ca.has_nlpsol(solver_name):
+        raise InputError(f"unknown or unavailable NLP solver {solver_name!r}; accepted: {', '.join(available_solvers())}")
+    return _build(settings, solver_name, json.dumps(options or {}, sort_keys=True), reading)
+
+
+@cached
+def _build(settings, solver_name, options_json, reading):
+    import casadi as ca
+
+    start = time.perf_counter()
+    nlp, lbg, ubg = _nlp(settings, reading)
+    options = json.loads(options_json)
+    try:
+        solver = ca.nlpsol("nlp", solver_name, nlp, _solver_options(solver_name, options, settings, lbg, ubg))
+    except RuntimeError as err:
+        raise InputError(f"casadi.nlpsol({solver_name!r}) could not be built with the options {options}: "
+                         f"{last_line(err)}") from None
+    return NLP(settings, solver_name, options, reading, solver, nlp["x"].numel(), nlp["g"].numel(), lbg, ubg,
+               time.perf_counter() - start)
+
+
+def available_solvers():
+    """The `casadi.nlpsol` plugins this CasADi build can load."""
+    import casadi as ca
+
+    return [name for name in NLP_PLUGINS if ca.has_nlpsol(name)]

@@ -1,0 +1,104 @@
+"""Multiple shooting: an integrator maps the node state over each interval,
+
+    z_{k+1} = (F(x_k, u_k, h), T_k),   h = T_k / N,
+
+with F from the registry INTEGRATORS: "rk4" (M classical RK4 steps), "collocation" (CasADi's
+integrator, M Radau elements of degree 3), "cvodes" (CasADi's SUNDIALS CVODES, tolerance tol).
+A new integrator: a function (settings) -> F(x, u, h, kappa) and one line in INTEGRATORS.
+"""
+
+from dataclasses import dataclass
+
+from ..core import model
+from ..core.errors import InputError, finite, integer
+from .base import Transcription
+
+M_MAX = 64
+
+
+def rk4_flow(x, u, kappa, duration, steps):
+    """x after `duration` under constant u: `steps` classical RK4 steps (symbolic or numeric)."""
+    h = duration / steps
+    for _ in range(steps):
+        k1 = model.rhs(x, u, kappa)
+        k2 = model.rhs(x + h / 2 * k1, u, kappa)
+        k3 = model.rhs(x + h / 2 * k2, u, kappa)
+        k4 = model.rhs(x + h * k3, u, kappa)
+        x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return x
+
+
+def _rk4(settings):
+    import casadi as ca
+
+    x, u, h, kappa = ca.SX.sym("x", 2), ca.SX.sym("u"), ca.SX.sym("h"), ca.SX.sym("kappa")
+    return ca.Function("F", [x, u, h, kappa], [rk4_flow(x, u, kappa, h, settings.M)])
+
+
+def _casadi_integrator(plugin, options):
+    import casadi as ca
+
+    x, u, h, kappa = ca.SX.sym("x", 2), ca.SX.sym("u"), ca.SX.sym("h"), ca.SX.sym("kappa")
+    integ = ca.integrator("I", plugin, {"x": x, "p": ca.vertcat(u, h, kappa), "ode": h * model.rhs(x, u, kappa)},
+                          0, 1, options)
+    xs, us, hs, ks = ca.MX.sym("x", 2), ca.MX.sym("u"), ca.MX.sym("h"), ca.MX.sym("kappa")
+    return ca.Function("F", [xs, us, hs, ks], [integ(x0=xs, p=ca.vertcat(us, hs, ks))["xf"]])
+
+
+def _collocation(settings):
+    return _casadi_integrator("collocation", {"number_of_finite_elements": settings.M, "interpolation_order": 3,
+                                              "collocation_scheme": "radau", "simplify": True,
+                                              "rootfinder": "fast_newton"}).expand()
+
+
+def _cvodes(settings):
+    return _casadi_integrator("cvodes", {"abstol": settings.tol, "reltol": settings.tol})
+
+
+#: integrator name -> (builder, the settings it takes besides N and integrator)
+INTEGRATORS = {
+    "rk4": (_rk4, ("M",)),
+    "collocation": (_collocation, ("M",)),
+    "cvodes": (_cvodes, ("tol",)),
+}
+
+
+@dataclass(frozen=True)
+class MultipleShooting(Transcription):
+    """N intervals; `integrator` over each (INTEGRATORS): "rk4" or "collocation" with M steps or
+    elements, "cvodes" with relative and absolute tolerance `tol`."""
+
+    N: int = 100
+    integrator: str = "rk4"
+    M: int = 4
+    tol: float = 1e-10
+
+    name = "multiple-shooting"
+
+    def __post_init__(self):
+        self.check_N()
+        if self.integrator not in INTEGRATORS:
+            raise InputError(f"unknown integrator {self.integrator!r}; accepted: {', '.join(INTEGRATORS)}")
+        integer("M", self.M, f"an integer from 1 to {M_MAX} (integrator steps per interval)", 1, M_MAX)
+        finite("tol", self.tol, "a number in [1e-14, 1e-3] (CVODES relative and absolute tolerance)", 1e-14, 1e-3)
+
+    @property
+    def symbolic(self):
+        return "MX" if self.integrator == "cvodes" else "SX"
+
+    def applicable(self):
+        return ("N", "integrator") + INTEGRATORS[self.integrator][1]
+
+    def prepare(self):
+        """F(x, u, h, kappa): the state after time h under constant u, by the chosen integrator."""
+        return INTEGRATORS[self.integrator][0](self)
+
+    def stage(self, x, u, h, kappa, extra, prepared):
+        return prepared(x, u, h, kappa), []
+
+    def family(self):
+        return f"MS {self.integrator} " + (f"tol={self.tol:g}" if self.integrator == "cvodes" else f"M={self.M}")
+
+    def describe(self):
+        option = f"tol = {self.tol:g}" if self.integrator == "cvodes" else f"M = {self.M}"
+        return f"multiple shooting, N = {self.N}, {self.integrator} ({option})"

@@ -1,0 +1,130 @@
+"""`ocp.solve`: the minimum time of a problem, and how each method fares against it.
+
+    [direct transcription]     if a method is given: its answer, verified by re-simulation; its
+                               T (when verified) is a feasible time that sets the search's horizon
+    complete extremal search   every extremal reaching the target set before the horizon
+                               (`ocp.indirect.search`); the least T is the answer, ties reported
+    verification               the answer's arcs re-simulated by scipy's DOP853; the certificate
+                               (first and second order, independent integration)
+    cross-check                Finch's one- or two-switch formula, where one applies (the direct
+                               answer's too, when it is the answer)
+    classification             the direct answer against the search's (`ocp.result.DirectClass`)
+
+With `search=False` the direct answer alone is returned: `optimal` is then unknown.
+"""
+
+import math
+import time
+from types import SimpleNamespace
+
+import numpy as np
+
+from . import direct as direct_layer
+from .core import simulate
+from .core.errors import InputError
+from .core.problem import Problem
+from .exact import finch
+from .indirect import certify, search as search_extremals
+from .indirect.search import HORIZON_BAND, MARGIN
+from .result import DirectClass, SolveStatus, Solution
+
+#: the answer's re-simulated miss must be below this (a refined extremal lands to ~1e-12)
+VERIFY_TOL = 1e-8
+
+
+def _tie(a, b):
+    """Whether two extremals' times agree within their accuracy."""
+    return abs(a.T - b.T) <= 10 * (a.T_error + b.T_error) + 8 * 2.2e-16 * max(a.T, b.T)
+
+
+def _ranked(extremals):
+    """(answer, ties, runner-up): among the optimal ties, the branch nearest k = 0 (then the larger
+    k) is the answer."""
+    if not extremals:
+        return None, (), None
+    best = extremals[0]
+    optimal = [e for e in extremals if _tie(e, best)]
+    answer = min(optimal, key=lambda e: (abs(e.branch), -e.branch))
+    slower = [e for e in extremals if not _tie(e, best)]
+    return answer, tuple(e for e in optimal if e is not answer), (slower[0] if slower else None)
+
+
+def resimulated_miss(problem, extremal):
+    """Distance in (theta, omega) from the target of the extremal's arcs re-simulated by DOP853."""
+    if not extremal.signs:
+        return 0.0
+    end = simulate.arcs(problem.x0, extremal.signs, extremal.durations, problem.kappa)[-1]
+    return float(np.hypot(*(end - np.array(problem.target(extremal.branch)))))
+
+
+def classify(direct, answer, ties, extremals, horizon):
+    """The DirectClass of a direct solution against the search's answer, its ties and the other
+    extremals found before `horizon`."""
+    status = direct_layer.DirectStatus
+    if direct.status == status.SOLVER_ERROR:
+        return DirectClass.SOLVER_ERROR
+    if direct.status == status.NOT_CONVERGED:
+        return DirectClass.NOT_CONVERGED
+    if direct.status == status.MISSES_TARGET:
+        return DirectClass.MISSES_TARGET
+    if not direct.structure.bang_bang:
+        return DirectClass.CHATTERING
+    same = lambda e: tuple(e.signs) == tuple(direct.structure.arc_signs) and e.branch == direct.branch
+    if any(same(e) for e in (answer, *ties)):
+        bound = direct.T_bound
+        return DirectClass.OPTIMUM if bound is None or abs(direct.T - answer.T) <= bound else DirectClass.INACCURATE
+    if any(same(e) for e in extremals):
+        return DirectClass.LOCAL_OPTIMUM
+    return DirectClass.BEYOND_HORIZON if direct.T > horizon else DirectClass.WRONG_STRUCTURE
+
+
+def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=direct_layer.MISS_TOL,
+          search=True, trusted=False, margin=MARGIN):
+    """The minimum-time Solution of `problem` (see the module doc).
+
+    method, solver, options, guess, miss_tol, trusted: the direct transcription (`ocp.direct.solve`),
+    run only when `method` is given or `search` is False; the answer comes from the search unless
+    `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least."""
+    if not isinstance(problem, Problem):
+        raise InputError(f"problem must be an ocp Problem (ocp.swing_up, ocp.damping), not {type(problem).__name__}")
+    start = time.perf_counter()
+    direct = None
+    if method is not None or not search:
+        direct = direct_layer.solve(problem, method, solver, options, guess, miss_tol, trusted)
+    direct_time = time.perf_counter() - start
+    if not search:
+        status = SolveStatus.DIRECT_ONLY if direct.success else SolveStatus.DIRECT_FAILED
+        structure = direct.structure
+        read = SimpleNamespace(branch=direct.branch, signs=structure.arc_signs, switch_times=structure.switch_times,
+                               switch_states=structure.switch_states, T=direct.T)
+        crosscheck = finch.crosscheck(problem, read) if direct.success else None
+        return Solution(problem, status, None, (), None, (), None, direct.resim_miss if direct.success else None,
+                        None, crosscheck, direct, None, (), 0.0, 0.0, direct_time, time.perf_counter() - start)
+    horizon = None
+    if direct is not None and direct.success and math.isfinite(direct.T):
+        horizon = direct.T * (1 + margin) / (1 - HORIZON_BAND)
+    begun = time.perf_counter()
+    found = search_extremals(problem, horizon, margin)
+    search_time = time.perf_counter() - begun
+    answer, ties, runner_up = _ranked(found.arrivals)
+    begun = time.perf_counter()
+    miss = certificate = crosscheck = None
+    if answer is None:
+        status = SolveStatus.NO_EXTREMAL
+    else:
+        miss = resimulated_miss(problem, answer)
+        if answer.signs:
+            certificate = certify(answer, problem.x0, problem.kappa)
+            crosscheck = finch.crosscheck(problem, answer)
+        if not miss <= VERIFY_TOL:
+            status = SolveStatus.NOT_VERIFIED
+        elif found.coverage.complete:
+            status = SolveStatus.OPTIMAL
+        else:
+            status = SolveStatus.BEST_FOUND
+    certificate_time = time.perf_counter() - begun
+    direct_class = None if direct is None or answer is None else classify(direct, answer, ties, found.arrivals,
+                                                                          found.coverage.horizon)
+    return Solution(problem, status, answer, ties, runner_up, found.arrivals, found.coverage, miss, certificate,
+                    crosscheck, direct, direct_class, found.notes, search_time, certificate_time, direct_time,
+                    time.perf_counter() - start)

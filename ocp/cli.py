@@ -101,13 +101,12 @@ def _run_solve(args):
     from .core.errors import finite, integer
     from .core.output import print_json, solver_output
     from .core.problem import make
-    from .direct.solve import MISS_TOL
 
     branch = 0 if args.plane else (None if args.branch is None else integer(
         "branch", args.branch, "an integer k (the target branch)", -10**6, 10**6))
     problem = make(args.problem, args.kappa, args.x0, branch)
     method = _method(args)
-    miss_tol = MISS_TOL if args.miss_tol is None else finite("miss-tol", args.miss_tol, "a number in (0, 1)", 1e-15, 1)
+    miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, "a number in (0, 1)", 1e-15, 1)
     from . import solving as solve_module
     with solver_output("stderr"):
         result = solve_module.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,

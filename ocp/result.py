@@ -77,8 +77,9 @@ class Solution:
     runner_up      the fastest extremal slower than the optimum (None if none before the horizon)
     extremals      every extremal the search solved, fastest first
     coverage       what the scan covered (`ocp.indirect.Coverage`)
-    resim_miss     the answer's arcs re-simulated by scipy's DOP853 (rtol = atol = 1e-12): their
-                   distance from the target in (theta, omega)
+    resim_miss     the distance from the target in (theta, omega) of the answer's control
+                   re-simulated independently (the certificate's CVODES integration, 1e-14; for a
+                   direct answer, its own re-simulation by scipy's DOP853)
     certificate    first- and second-order conditions checked independently (`ocp.indirect.Certificate`)
     crosscheck     the answer against Finch's formula of its structure, where one applies
     direct         the direct transcription's answer (`ocp.direct.DirectSolution`), if one was asked for

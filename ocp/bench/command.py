@@ -12,10 +12,6 @@ import time
 from pathlib import Path
 
 from ..core.errors import InputError, finite
-from . import report as report_module
-from . import runner, suite as suite_module
-from .environment import environment
-from .store import Store
 
 
 def add_commands(sub):
@@ -41,6 +37,9 @@ def add_commands(sub):
 
 
 def run_bench(args):
+    from . import report as report_module, runner, suite as suite_module
+    from .environment import environment
+    from .store import Store
     from ..core.output import print_json, solver_output
 
     suite = suite_module.load(args.suite)
@@ -87,6 +86,7 @@ def run_bench(args):
 
 
 def run_report(args):
+    from . import report as report_module
     from ..core.output import print_json
 
     formats = tuple(f.strip() for f in args.format.split(",") if f.strip())

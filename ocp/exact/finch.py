@@ -28,10 +28,9 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
-from scipy.special import ellipk, sici
 
 from ..core.problem import KINDS
+from ..core.roots import brent
 
 EPS = np.finfo(float).eps
 
@@ -129,6 +128,8 @@ def free_swing(theta0):
     """Swing u = 0 from rest at theta0 in (0, pi) to the bottom: t = K(k) (quarter period, the
     complete elliptic integral with modulus k = sin(theta0/2), scipy's parameter m = k^2) and
     omega = -2 sin(theta0/2). theta0 = pi/2: K(1/sqrt 2) = Gamma(1/4)^2/(4 sqrt(pi)), -sqrt(2)."""
+    from scipy.special import ellipk
+
     k = math.sin(theta0 / 2)
     t = float(ellipk(k * k))
     return Arrival(t, -2 * k, 4 * EPS * t)
@@ -141,8 +142,7 @@ def one_switch_bound():
     = 0, i.e. of min_{0 < phi < pi} [cos(phi) - 1 + kappa*phi] = 0 (the minimum is at
     phi = pi - arcsin(kappa)): for kappa <= kappa_1 the u = +1 arc from (0, 0) comes to rest
     before pi/2 + 1/kappa. g'(kappa) = arcsin(kappa) - pi, so the root is well conditioned."""
-    return brentq(lambda k: 1 - math.pi * k + math.sqrt(1 - k * k) + k * math.asin(k), 0.5, 1.0,
-                  xtol=1e-17, rtol=4 * EPS)
+    return brent(lambda k: 1 - math.pi * k + math.sqrt(1 - k * k) + k * math.asin(k), 0.5, 1.0, 1e-17)
 
 
 @dataclass(frozen=True)
@@ -275,11 +275,11 @@ def _feasible_rhos(kappa):
     rho_min = math.asin(kappa) - math.pi
     if kappa > one_switch_bound():
         return rho_min, 0.0
-    lo = brentq(lambda r: math.cos(r) - 1 - kappa * r, rho_min, -kappa, xtol=1e-17, rtol=4 * EPS)
+    lo = brent(lambda r: math.cos(r) - 1 - kappa * r, rho_min, -kappa, 1e-17)
     hump = kappa * (math.pi - math.asin(kappa)) - math.sqrt(1 - kappa * kappa)
     if math.cos(lo) + kappa * lo >= hump:
         return None
-    return lo, brentq(lambda r: math.cos(r) + kappa * r - hump, lo, 0.0, xtol=1e-17, rtol=4 * EPS)
+    return lo, brent(lambda r: math.cos(r) + kappa * r - hump, lo, 0.0, 1e-17)
 
 
 def _steepest(kappa):
@@ -289,6 +289,8 @@ def _steepest(kappa):
     interval = _feasible_rhos(kappa)
     if interval is None:
         return None
+    from scipy.optimize import minimize_scalar
+
     peak = minimize_scalar(lambda r: -stationarity(r, kappa)[0], bounds=interval, method="bounded",
                            options={"xatol": 1e-10})
     return peak.x, -peak.fun
@@ -325,7 +327,7 @@ def two_switch(kind, kappa):
                          f"(it has one for {low!r} < kappa < {high!r})")
     lo, rho_peak = _feasible_rhos(kappa)[0], peak[0]
     a = next(a for a in lo + (rho_peak - lo) * 0.1 ** np.arange(1, 17) if stationarity(a, kappa)[0] < 0)
-    rho = brentq(lambda r: stationarity(r, kappa)[0], a, rho_peak, xtol=1e-17, rtol=4 * EPS)
+    rho = brent(lambda r: stationarity(r, kappa)[0], a, rho_peak, 1e-17)
     slope_error = stationarity(rho, kappa)[1]
     h = 0.5 * min(1e-4, rho - lo, rho_peak - rho)
     curvature = (stationarity(rho + h, kappa)[0] - stationarity(rho - h, kappa)[0]) / (2 * h)
@@ -348,14 +350,14 @@ def two_switch_range():
     rest where the first arc comes to rest, cos(rho) - 1 = kappa*rho, no longer passes
     pi - arcsin(kappa) (one more swing is needed). At kappa_hi the minimum merges with a local
     maximum (a fold): max over rho of dT/drho = 0; above it only the one-switch transfer (rho = 0)
-    remains. Both are roots found by brentq; kappa_hi's inner maximum is located to 1e-10 in rho,
+    remains. Both are roots found by Brent's method; kappa_hi's inner maximum is located to 1e-10 in rho,
     so its value is exact to rounding and kappa_hi to ~1e-13."""
     def gap(kappa):
-        lo = brentq(lambda r: math.cos(r) - 1 - kappa * r, math.asin(kappa) - math.pi, -kappa, xtol=1e-17)
+        lo = brent(lambda r: math.cos(r) - 1 - kappa * r, math.asin(kappa) - math.pi, -kappa, 1e-17)
         return math.cos(lo) + kappa * lo - kappa * (math.pi - math.asin(kappa)) + math.sqrt(1 - kappa * kappa)
 
-    return (brentq(gap, 0.3, 0.6, xtol=1e-16, rtol=4 * EPS),
-            brentq(lambda k: _steepest(k)[1], 0.78, 0.9, xtol=1e-14, rtol=4 * EPS))
+    return (brent(gap, 0.3, 0.6, 1e-16),
+            brent(lambda k: _steepest(k)[1], 0.78, 0.9, 1e-14))
 
 
 # --- solved results against the formulas ---------------------------------------------------------
@@ -426,4 +428,6 @@ def crosscheck(problem, extremal):
 def gibbs_constant():
     """G = int_0^pi sin(z)/z dz = Si(pi) = sum_j (-1)^j pi^(2j+1) / ((2j+1)(2j+1)!) = 1.8519370519...
     (scipy.special.sici); the damping bifurcation values behave like G/(2n) (Ovseevich 2014)."""
+    from scipy.special import sici
+
     return float(sici(math.pi)[0])

@@ -38,7 +38,8 @@ STEP = 1e-4
 @dataclass(frozen=True)
 class Certificate:
     """Residuals of the first-order conditions, strict bang-bang slopes, the reduced Hessian's
-    eigenvalues with their error estimate, and the verdicts."""
+    eigenvalues with their error estimate, the verdicts, and the state reached by the independent
+    integration (`final_state`: the control re-simulated)."""
 
     sign_violation: float
     switch_residual: float
@@ -50,6 +51,7 @@ class Certificate:
     eigenvalue_error: float
     first_order: bool
     second_order: bool
+    final_state: tuple
 
     @property
     def certified(self):
@@ -63,7 +65,7 @@ class Certificate:
             "extra_zeros_of_p2": self.extra_zeros, "switch_slopes": list(self.switch_slopes),
             "hamiltonian_deviation": self.hamiltonian_deviation,
             "reduced_hessian_eigenvalues": list(self.reduced_hessian_eigenvalues),
-            "eigenvalue_error": self.eigenvalue_error,
+            "eigenvalue_error": self.eigenvalue_error, "final_state": list(self.final_state),
         }
 
 
@@ -113,7 +115,7 @@ def certify(extremal, x0, kappa):
     eigenvalues, error = reduced_hessian(x0, signs, durations, kappa, -y[2:])
     second = all(e > error for e in eigenvalues)
     return Certificate(sign_violation, float(switch_residual), extra_zeros, slopes, strict, h_dev,
-                       eigenvalues, error, first_order, second)
+                       eigenvalues, error, first_order, second, (float(y[0]), float(y[1])))
 
 
 def _end(x0, signs, durations, kappa):

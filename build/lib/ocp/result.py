@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 
 from .core.numbers import digits, order, plus_minus
-from .core.problem import Problem
+from .core.problem import Problem, angle_text
 from .direct.structure import pattern
 
 
@@ -25,7 +25,7 @@ class SolveStatus(enum.IntEnum):
 
 STATUS_MESSAGES = {
     SolveStatus.OPTIMAL: "globally optimal: the least time among all extremals that reach the target set before "
-                         "the horizon, by a complete scan of the costate angle",
+                         "the horizon",
     SolveStatus.BEST_FOUND: "the least time among the extremals found; the scan left intervals unresolved, so "
                             "global optimality is not proved",
     SolveStatus.DIRECT_ONLY: "the direct transcription's answer, its control verified by re-simulation; not compared "
@@ -77,8 +77,9 @@ class Solution:
     runner_up      the fastest extremal slower than the optimum (None if none before the horizon)
     extremals      every extremal the search solved, fastest first
     coverage       what the scan covered (`ocp.indirect.Coverage`)
-    resim_miss     the answer's arcs re-simulated by scipy's DOP853 (rtol = atol = 1e-12): their
-                   distance from the target in (theta, omega)
+    resim_miss     the distance from the target in (theta, omega) of the answer's control
+                   re-simulated independently (the certificate's CVODES integration, 1e-14; for a
+                   direct answer, its own re-simulation by scipy's DOP853)
     certificate    first- and second-order conditions checked independently (`ocp.indirect.Certificate`)
     crosscheck     the answer against Finch's formula of its structure, where one applies
     direct         the direct transcription's answer (`ocp.direct.DirectSolution`), if one was asked for
@@ -241,8 +242,7 @@ class Solution:
             if self.direct is not None:
                 lines.append(self._direct_line())
             return "\n".join(lines)
-        target = self.problem.target(self.branch)
-        lines.append(f"reached ({target[0]:.10g}, 0), branch k = {self.branch}")
+        lines.append(f"reached ({angle_text(self.target[0])}, 0), branch k = {self.branch}")
         if self.answer is not None:
             lines.append(f"T = {digits(self.T, self.T_error)}   (error estimate {order(self.T_error)}; the control "
                          f"re-simulated independently misses the target by {order(self.resim_miss)})")

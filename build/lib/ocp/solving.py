@@ -4,8 +4,9 @@
                                T (when verified) is a feasible time that sets the search's horizon
     complete extremal search   every extremal reaching the target set before the horizon
                                (`ocp.indirect.search`); the least T is the answer, ties reported
-    verification               the answer's arcs re-simulated by scipy's DOP853; the certificate
-                               (first and second order, independent integration)
+    verification and certificate  the answer's state and costate integrated again by CVODES, with
+                               the costate of automatic differentiation: the miss at the target
+                               and the first- and second-order conditions (`ocp.indirect.certificate`)
     cross-check                Finch's one- or two-switch formula, where one applies (the direct
                                answer's too, when it is the answer)
     classification             the direct answer against the search's (`ocp.result.DirectClass`)
@@ -19,11 +20,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import direct as direct_layer
-from .core import simulate
 from .core.errors import InputError
 from .core.problem import Problem
-from .exact import finch
 from .indirect import certify, search as search_extremals
 from .indirect.search import HORIZON_BAND, MARGIN
 from .result import DirectClass, SolveStatus, Solution
@@ -49,18 +47,20 @@ def _ranked(extremals):
     return answer, tuple(e for e in optimal if e is not answer), (slower[0] if slower else None)
 
 
-def resimulated_miss(problem, extremal):
-    """Distance in (theta, omega) from the target of the extremal's arcs re-simulated by DOP853."""
-    if not extremal.signs:
-        return 0.0
-    end = simulate.arcs(problem.x0, extremal.signs, extremal.durations, problem.kappa)[-1]
-    return float(np.hypot(*(end - np.array(problem.target(extremal.branch)))))
+def _crosscheck(problem, extremal):
+    """`ocp.exact.finch.crosscheck`, imported only where a formula can apply (a start at rest on a
+    multiple of pi)."""
+    theta0, omega0 = problem.x0
+    if omega0 != 0 or abs(theta0 / math.pi - round(theta0 / math.pi)) > 1e-9:
+        return None
+    from .exact import finch
+    return finch.crosscheck(problem, extremal)
 
 
 def classify(direct, answer, ties, extremals, horizon):
     """The DirectClass of a direct solution against the search's answer, its ties and the other
     extremals found before `horizon`."""
-    status = direct_layer.DirectStatus
+    from .direct import DirectStatus as status
     if direct.status == status.SOLVER_ERROR:
         return DirectClass.SOLVER_ERROR
     if direct.status == status.NOT_CONVERGED:
@@ -78,26 +78,29 @@ def classify(direct, answer, ties, extremals, horizon):
     return DirectClass.BEYOND_HORIZON if direct.T > horizon else DirectClass.WRONG_STRUCTURE
 
 
-def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=direct_layer.MISS_TOL,
+def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=None,
           search=True, trusted=False, margin=MARGIN):
     """The minimum-time Solution of `problem` (see the module doc).
 
     method, solver, options, guess, miss_tol, trusted: the direct transcription (`ocp.direct.solve`),
     run only when `method` is given or `search` is False; the answer comes from the search unless
-    `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least."""
+    `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least.
+    miss_tol None: `ocp.direct.MISS_TOL`."""
     if not isinstance(problem, Problem):
         raise InputError(f"problem must be an ocp Problem (ocp.swing_up, ocp.damping), not {type(problem).__name__}")
     start = time.perf_counter()
     direct = None
     if method is not None or not search:
-        direct = direct_layer.solve(problem, method, solver, options, guess, miss_tol, trusted)
+        from . import direct as direct_layer
+        direct = direct_layer.solve(problem, method, solver, options, guess,
+                                    direct_layer.MISS_TOL if miss_tol is None else miss_tol, trusted)
     direct_time = time.perf_counter() - start
     if not search:
         status = SolveStatus.DIRECT_ONLY if direct.success else SolveStatus.DIRECT_FAILED
         structure = direct.structure
         read = SimpleNamespace(branch=direct.branch, signs=structure.arc_signs, switch_times=structure.switch_times,
                                switch_states=structure.switch_states, T=direct.T)
-        crosscheck = finch.crosscheck(problem, read) if direct.success else None
+        crosscheck = _crosscheck(problem, read) if direct.success else None
         return Solution(problem, status, None, (), None, (), None, direct.resim_miss if direct.success else None,
                         None, crosscheck, direct, None, (), 0.0, 0.0, direct_time, time.perf_counter() - start)
     horizon = None
@@ -112,10 +115,11 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     if answer is None:
         status = SolveStatus.NO_EXTREMAL
     else:
-        miss = resimulated_miss(problem, answer)
+        miss = 0.0
         if answer.signs:
             certificate = certify(answer, problem.x0, problem.kappa)
-            crosscheck = finch.crosscheck(problem, answer)
+            miss = float(np.hypot(*np.subtract(certificate.final_state, problem.target(answer.branch))))
+            crosscheck = _crosscheck(problem, answer)
         if not miss <= VERIFY_TOL:
             status = SolveStatus.NOT_VERIFIED
         elif found.coverage.complete:

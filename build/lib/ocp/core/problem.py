@@ -170,8 +170,8 @@ class Problem:
 
     def describe(self):
         """One line: kind, kappa, start, target set and reading."""
-        target = (f"any branch of ({_angle(self.base)} + 2 pi k, 0) (on the circle)" if self.branch is None
-                  else f"({_angle(self.target(self.branch)[0])}, 0) (on the plane, branch k = {self.branch} pinned)")
+        target = (f"any branch of ({angle_text(self.base)} + 2 pi k, 0) (on the circle)" if self.branch is None
+                  else f"({angle_text(self.target(self.branch)[0])}, 0) (on the plane, branch k = {self.branch} pinned)")
         return (f"{self.kind}, kappa = {self.kappa:g}, from (theta, omega) = ({self.x0[0]:.6g}, {self.x0[1]:.6g}) "
                 f"to {target}")
 
@@ -179,7 +179,7 @@ class Problem:
         return asdict(self)
 
 
-def _angle(theta):
+def angle_text(theta):
     """theta as a multiple of pi where it is one (pi, -3*pi, 0), else 6 significant digits."""
     k = theta / math.pi
     if abs(k - round(k)) < 1e-12:

@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.roots import brent
 from . import taylor
 
 EPS = 2.220446049250313e-16
@@ -270,44 +271,6 @@ def _examine(problem, family, a, m, b, accept, extended):
     return split, singular, brackets
 
 
-def _brent(f, a, b, fa, fb, xtol):
-    """A root of f in [a, b] (fa, fb of opposite signs), by Brent's method (Brent 1973, zero)."""
-    c, fc = a, fa
-    d = e = b - a
-    for _ in range(200):
-        if fb * fc > 0:
-            c, fc = a, fa
-            d = e = b - a
-        if abs(fc) < abs(fb):
-            a, b, c = b, c, b
-            fa, fb, fc = fb, fc, fb
-        tol = 2 * 2.2e-16 * abs(b) + 0.5 * xtol
-        half = 0.5 * (c - b)
-        if abs(half) <= tol or fb == 0:
-            return b
-        if abs(e) >= tol and abs(fa) > abs(fb):
-            s = fb / fa
-            if a == c:
-                p, q = 2 * half * s, 1 - s
-            else:
-                q, r = fa / fc, fb / fc
-                p = s * (2 * half * q * (q - r) - (b - a) * (r - 1))
-                q = (q - 1) * (r - 1) * (s - 1)
-            if p > 0:
-                q = -q
-            p = abs(p)
-            if 2 * p < min(3 * half * q - abs(tol * q), abs(e * q)):
-                e, d = d, p / q
-            else:
-                d = e = half
-        else:
-            d = e = half
-        a, fa = b, fb
-        b += d if abs(d) > tol else math.copysign(tol, half)
-        fb = f(b)
-    return b
-
-
 def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
     """(phi, switches, turning point) of the extremal whose turning point `label` reaches the target of
     `branch`, phi in [lo, hi] (a sign change), or None."""
@@ -330,7 +293,7 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
     ga, gb = g(lo), g(hi)
     if not ga * gb <= 0:
         return None
-    phi = _brent(g, lo, hi, ga, gb, 1e-17)
+    phi = brent(g, lo, hi, 1e-17, ga, gb)
     event, switches = turning_point(phi)
     return None if event is None else (phi, switches, event)
 

@@ -1,0 +1,72 @@
+"""The complete search of extremals against an exhaustive brute-force scan (issue 13).
+
+The brute force shares the integrator but none of the scan's logic: the costate angle on a dense
+uniform grid (BRUTE points per admissible interval), no adaptivity, every sign change of a turning
+point's angle minus a target angle between neighbouring samples solved by Brent's method. The
+search must find its least time, and every arrival it finds before the search's horizon."""
+
+import math
+
+import numpy as np
+import pytest
+
+from ocp.core.problem import make
+from ocp.indirect import searching as S
+from ocp.indirect import taylor
+
+BRUTE = 4000
+
+
+def brute_force(problem, horizon):
+    family = S._Family(problem.x0, problem.kappa)
+    found = []
+    for lo, hi, u0 in S.admissible_intervals(problem.x0, problem.kappa):
+        previous = None
+        for phi in np.linspace(lo + S.END_OFFSET, hi - S.END_OFFSET, BRUTE):
+            sample = family.sample(phi, u0, horizon)
+            if previous is not None:
+                for label, (t1, th1) in sample.events.items():
+                    if label not in previous.events:
+                        continue
+                    t0, th0 = previous.events[label]
+                    for k in S._targets(problem, min(th0, th1), max(th0, th1)):
+                        if abs(th1 - th0) < 1.0:
+                            root = S._root(family, problem, u0, label, k, previous.phi, phi, max(t0, t1), taylor.CHECK)
+                            if root is not None and root[2][0] <= horizon:
+                                found.append(float(root[2][0]))
+            previous = sample
+    return sorted(found)
+
+
+def cases(n, seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        kind = str(rng.choice(["swing-up", "damping"]))
+        kappa = float(rng.uniform(0.25, 2.5))
+        x0 = (float(rng.uniform(-4, 4)), float(rng.uniform(-3, 3)))
+        branch = None if rng.random() < 0.5 else int(rng.integers(-1, 2))
+        yield make(kind, kappa, x0, branch)
+
+
+@pytest.mark.parametrize("problem", list(cases(24, seed=2026)), ids=lambda p: f"{p.kind}-{p.kappa:.2f}-{p.reading}")
+def test_the_search_finds_every_arrival_of_a_brute_force_scan(problem):
+    result = S.search(problem)
+    assert result.coverage.complete
+    horizon = result.coverage.horizon
+    brute = [T for T in brute_force(problem, horizon) if T <= horizon * 0.999]
+    found = [a.T for a in result.arrivals]
+    assert brute, "the brute force found no arrival: the case tests nothing"
+    assert min(found) == pytest.approx(min(brute), rel=1e-11)
+    missing = [T for T in brute if not any(abs(T - F) <= 1e-8 * T for F in found)]
+    assert not missing
+    if problem.branch is not None:
+        assert all(a.branch == problem.branch for a in result.arrivals)
+
+
+def test_the_plane_and_the_circle_differ_where_the_nearest_target_is_not_the_pinned_one():
+    """From (-2, 0) at kappa = 0.6 the nearest upright is -pi, but on the circle the optimum goes to
+    +pi in one switch; on the plane with -pi pinned it cannot."""
+    circle = S.search(make("swing-up", 0.6, (-2.0, 0.0)))
+    plane = S.search(make("swing-up", 0.6, (-2.0, 0.0), branch=-1))
+    assert circle.best.branch == 0 and circle.best.n_switches == 1
+    assert plane.best.branch == -1 and plane.best.T > circle.best.T

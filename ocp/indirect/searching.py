@@ -19,14 +19,14 @@ points has theta = theta*: arrivals are the roots of theta_label(phi) - theta*_k
 k (the circle) or the pinned one (the plane).
 
 The scan samples phi (SAMPLES per half), then bisects adaptively: an interval [a, b] is resolved
-when its midpoint m agrees with the linear interpolation of a and b to e, and for every label the
-range of its three values widened by e excludes every allowed target, or brackets one target with
-monotone values and e <= LINEAR * |theta_b - theta_a| (one crossing, located by a sign change in
-one half). A label present at some of a, m, b only (its turning point crosses the horizon) before
+when, for every label, the range of its three values widened by NEAR times their variation
+(|theta_m - theta_a| + |theta_b - theta_m|) excludes every allowed target, or brackets one target
+with monotone values and the midpoint's departure from linear interpolation e <= LINEAR *
+|theta_b - theta_a| (one crossing, located by a sign change in one half). A label present at some of a, m, b only (its turning point crosses the horizon) before
 the acceptance horizon also forces a split. Intervals are not split below MIN_WIDTH; such an
 interval that is still unresolved is reported. A missed arrival would therefore be a crossing
-hidden in an interval where the turning point's angle departs from its quadratic interpolant by
-more than its distance to the target. Each bracketed arrival is solved by Brent's method in phi
+hidden in an interval where the turning point's angle makes an excursion beyond its sampled
+variation to reach a target (a pair of arrivals born at a fold, narrower than the sampling there). Each bracketed arrival is solved by Brent's method in phi
 with the PRECISE Taylor integration, and again with CHECK: the difference is its error estimate.
 """
 
@@ -52,14 +52,23 @@ END_NEAR = 1e-6
 MIN_WIDTH = 1e-10
 #: a bracket is one crossing when the midpoint departs from linear by at most this fraction
 LINEAR = 0.25
-#: arrivals are accepted before horizon * (1 - HORIZON_BAND); later turning points may be cut
-HORIZON_BAND = 0.02
+#: an interval is examined for a crossing when a target lies within NEAR times the variation of
+#: the turning point's angle over it from the sampled values (a narrow excursion could reach it)
+NEAR = 1.0
+#: arrivals are accepted before horizon * (1 - HORIZON_BAND): the turning points between that and
+#: the horizon are seen, so that one whose time dips before it between two samples is resolved
+HORIZON_BAND = 0.2
 #: arrivals within this relative time of the best, and the next one, are solved to PRECISE accuracy
 TIE_WINDOW = 1e-6
 #: a turning point missing at a sample is looked for up to this many horizons
 EXTEND = 1.5
+#: a turning point seen at one sample only is resolved when its time there is within this fraction
+#: of the horizon band past the acceptance (it may dip before the acceptance between samples)
+DIP = 0.5
 #: a turning point that goes to infinite time this far from every target cannot hide an arrival
 FAR = 1e-2
+#: a turning point's angle changing by more than this over the finest spacing is discontinuous there
+JUMP = 1.0
 #: the scan extends to the best arrival time times (1 + MARGIN), to report the runner-up
 MARGIN = 0.2
 #: the horizon grows by this factor while no arrival is found, up to MAX_HORIZON
@@ -240,11 +249,14 @@ def _examine(problem, family, a, m, b, accept, extended):
     be bisected, and if only because a turning point goes to infinite time inside it (the extremal
     reaches an equilibrium of its arc, a saddle), the nearest approach of that turning point to a
     target; and the brackets (phi_lo, phi_hi, label, branch, time) it resolves. A turning point
-    present at some of a, m, b only is first looked for by integrating the others to `extended`."""
+    present at some of a, m, b only is first looked for by integrating the others to `extended`.
+    A turning point whose sampled times, less NEAR times their variation, stay after `accept` is
+    not examined (its time cannot dip before it between the samples)."""
     split, singular, brackets = False, math.inf, []
     for label in set(a.events) | set(m.events) | set(b.events):
         values = [s.events.get(label) for s in (a, m, b)]
-        if min(v[0] for v in values if v is not None) > accept:
+        if None not in values and min(v[0] for v in values) - NEAR * (
+                abs(values[1][0] - values[0][0]) + abs(values[2][0] - values[1][0])) > accept:
             continue
         if None in values:
             for s, v in zip((a, m, b), values):
@@ -252,17 +264,24 @@ def _examine(problem, family, a, m, b, accept, extended):
                     s.integrate(family, extended)
             values = [s.events.get(label) for s in (a, m, b)]
             if None in values:
+                if min(v[0] for v in values if v is not None) > accept + DIP * (extended / EXTEND - accept):
+                    continue
                 split = True
                 singular = min(singular, *(_distance(problem, v[1]) for v in values if v is not None))
                 continue
         (ta, tha), (tm, thm), (tb, thb) = values
         e = abs(thm - 0.5 * (tha + thb))
-        ks = _targets(problem, min(tha, thm, thb) - e, max(tha, thm, thb) + e)
+        reach = NEAR * (abs(thm - tha) + abs(thb - thm))      # how far a narrow excursion could go
+        ks = _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach)
         if not ks:
             continue
         monotone = (tha <= thm <= thb) or (tha >= thm >= thb)
         if len(ks) > 1 or not monotone or e > LINEAR * abs(thb - tha):
-            split, singular = True, -1.0
+            split = True
+            # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
+            # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
+            jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
+            singular = min(singular, *(_distance(problem, th) for th in (tha, thm, thb))) if jump else -1.0
             continue
         target = problem.target(ks[0])[0]
         for (p0, t0, th0), (p1, t1, th1) in (((a.phi, ta, tha), (m.phi, tm, thm)), ((m.phi, tm, thm), (b.phi, tb, thb))):

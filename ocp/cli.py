@@ -162,12 +162,130 @@ def _run_figures(args):
     return 0
 
 
+def _add_synthesis(sub):
+    from .core.problem import KINDS
+
+    p = sub.add_parser("synthesis", help="the optimal synthesis over a window of the phase plane: switch counts, "
+                                         "value, switching and dispersal curves (a map and a figure per kappa)")
+    p.add_argument("problem", help=f"one of: {', '.join(KINDS)}")
+    p.add_argument("--kappa", nargs="+", required=True, help="one or more torque bounds")
+    p.add_argument("--plane", action="store_true", help="the plane (target branch 0 only); default: the circle")
+    p.add_argument("--window", nargs=4, metavar=("THETA_LO", "THETA_HI", "OMEGA_LO", "OMEGA_HI"),
+                   default=["-3.141592653589793", "3.141592653589793", "-3", "3"], help="default [-pi, pi] x [-3, 3]")
+    p.add_argument("--grid", nargs=2, metavar=("N_THETA", "N_OMEGA"), default=["401", "241"], help="default 401 241")
+    p.add_argument("--horizon", default="12", help="longest time-to-go drawn, default 12")
+    p.add_argument("--check", default="0", help="re-solve this many random cells by ocp.solve and compare")
+    p.add_argument("--out", default="synthesis", help="folder for the maps (.npz) and figures, default ./synthesis")
+    p.add_argument("--format", default="png,pdf", help="figure formats, comma separated; default png,pdf")
+    p.add_argument("--json", action="store_true", help="print one JSON array, an object per map")
+    p.set_defaults(run=_run_synthesis)
+
+
+def _run_synthesis(args):
+    from pathlib import Path
+
+    from .core import plotting
+    from .core.errors import finite, integer
+    from .core.output import print_json
+    from .core.problem import KINDS, KAPPA_RANGE
+    from .figures.synthesis import draw_map
+    from .synthesis.field import Window, check, save, summary, synthesize
+
+    if args.problem not in KINDS:
+        raise InputError(f"unknown problem {args.problem!r}; accepted: {', '.join(KINDS)}")
+    kappas = [finite("kappa", k, f"numbers from {KAPPA_RANGE[0]:g} to {KAPPA_RANGE[1]:g}", *KAPPA_RANGE) for k in args.kappa]
+    lo_t, hi_t, lo_w, hi_w = (finite("window", v, "four numbers, |theta| <= 1000, |omega| <= 50", -1000, 1000)
+                              for v in args.window)
+    if not (lo_t < hi_t and lo_w < hi_w and max(abs(lo_w), abs(hi_w)) <= 50):
+        raise InputError("window: THETA_LO < THETA_HI and OMEGA_LO < OMEGA_HI, |omega| <= 50")
+    grid = [integer("grid", g, "two integers from 11 to 2001", 11, 2001) for g in args.grid]
+    horizon = finite("horizon", args.horizon, "a number of time units from 0.1 to 60", 0.1, 60)
+    checks = integer("check", args.check, "an integer from 0 to 1000", 0, 1000)
+    formats = tuple(f.strip() for f in args.format.split(",") if f.strip())
+    if not formats or set(formats) - set(plotting.FORMATS):
+        raise InputError(f"format {args.format!r}: accepted {', '.join(plotting.FORMATS)} (comma separated)")
+    reading = "plane" if args.plane else "circle"
+    out, results = Path(args.out), []
+    for n, kappa in enumerate(kappas, 1):
+        stem = out / f"{args.problem}-{reading}-kappa-{kappa:g}"
+        data = stem.parent / (stem.name + ".npz")
+        if not args.json:
+            print(f"[{n}/{len(kappas)}] {args.problem}, {reading}, kappa = {kappa:g} ...", file=sys.stderr, flush=True)
+        s = synthesize(args.problem, kappa, reading, Window(lo_t, hi_t, lo_w, hi_w, *grid), horizon)
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+            save(s, data)
+            with plotting.style():
+                figures = plotting.save(draw_map(s), stem, formats)
+        except OSError as err:
+            raise Fault(f"cannot write the map to {out}: {err}") from None
+        result = dict(summary(s), files=[str(data)] + [str(f) for f in figures])
+        if checks:
+            rows = check(s, checks, seed=n)
+            result["check"] = {"cells": len(rows), "largest |V - T|": max((abs(r[2] - r[4]) for r in rows), default=0.0),
+                               "switch counts that differ": sum(r[3] != r[5] for r in rows)}
+        results.append(result)
+        if not args.json:
+            counts = ", ".join(f"N = {k}: {v}" for k, v in result["switch_counts"].items())
+            print(f"{args.problem}, {reading}, kappa = {kappa:g}: {counts} cells; covered {result['covered']:.1%}; "
+                  f"{s.extremals} extremals in {s.time_s:.1f} s; {', '.join(result['files'])}")
+            if checks:
+                c = result["check"]
+                print(f"  checked {c['cells']} random cells by ocp.solve: largest |V - T| {c['largest |V - T|']:.1e}, "
+                      f"switch counts that differ: {c['switch counts that differ']}")
+    if args.json:
+        print_json(results)
+    return 0
+
+
+def _add_bifurcation(sub):
+    p = sub.add_parser("bifurcation", help="the bifurcation values kappa_n of N_kappa, with error bars, attaining "
+                                           "states and mechanisms")
+    p.add_argument("--case", action="append", metavar="KIND/READING/N",
+                   help="only this case (repeatable), e.g. swing-up/circle/1; default: every located case")
+    p.add_argument("--store", default="ocp-bifurcation.jsonl", help="results, a JSON line per value (resumed)")
+    p.add_argument("--jobs", default="1", help="local worker processes, default 1")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="a Dask distributed scheduler instead of local processes")
+    p.add_argument("--json", action="store_true", help="print the table as one JSON array")
+    p.set_defaults(run=_run_bifurcation)
+
+
+def _run_bifurcation(args):
+    from .bench.runner import Progress, executor
+    from .core.errors import integer
+    from .core.output import print_json
+    from .synthesis import results as store
+
+    cases = store.cases(args.case)
+    jobs = integer("jobs", args.jobs, "an integer from 1 to 64", 1, 64)
+    rows = store.load(args.store)
+    todo = [c for c in cases if c.id not in rows]
+    if todo:
+        progress = Progress(len(todo), "bifurcation values")
+        with executor(jobs, args.scheduler) as (pool, workers, name):
+            futures = {pool.submit(store.compute, c): c for c in todo}
+            import concurrent.futures as cf
+            for future in cf.as_completed(futures):
+                row = future.result()
+                store.append(args.store, row)
+                rows[row["case"]] = row
+                progress.step(f"{row['case']}: kappa = {row['kappa']!r}")
+    table = [rows[c.id] for c in cases]
+    if args.json:
+        print_json(table)
+    else:
+        print(store.format_table(table))
+    return 0
+
+
 def main(argv=None):
     parser = _Parser(prog="ocp", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_solve(sub)
     _add_verify(sub)
     _add_figures(sub)
+    _add_synthesis(sub)
+    _add_bifurcation(sub)
     from .bench.command import add_commands
     add_commands(sub)
     try:

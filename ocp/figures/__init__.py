@@ -13,7 +13,7 @@ from typing import Callable
 
 from ..core import plotting
 from ..core.errors import InputError
-from . import batista, finch, suite, vibrating_pivot
+from . import batista, finch, suite, synthesis, vibrating_pivot
 
 
 @dataclass(frozen=True)
@@ -47,6 +47,10 @@ FIGURES = {
                               vibrating_pivot.histories, _drawn(vibrating_pivot.draw_histories)),
     "pivot-chart": Figure("stability chart of the upright on a vibrating pivot: Tam, Kapitza, exact Floquet",
                           vibrating_pivot.stability_chart, _drawn(vibrating_pivot.draw_stability_chart)),
+    **{name: Figure(f"optimal synthesis: switch counts, switching and dispersal curves ({kind}, {reading}, kappa = {kappa:g})",
+                    lambda k=kind, r=reading, kp=kappa, w=window, h=horizon: synthesis.map_data(k, r, kp, w, h),
+                    _drawn(synthesis.draw_map))
+       for name, kind, reading, kappa, window, horizon in synthesis.MAPS},
     "work-precision": Figure("work-precision charts, one a benchmark case (from a results store)",
                              suite.records, suite.write_work_precision, from_store=True),
     "profiles": Figure("performance profiles across the benchmark cases (from a results store)",

@@ -43,6 +43,8 @@ from ..indirect.searching import search
 
 #: backward switches are followed up to this time-to-go
 S_MAX = 60.0
+#: the gap given to angles whose switch is not crossed (a finite penalty keeps Brent's method exact)
+NOT_CROSSED = 1e3
 
 
 @dataclass(frozen=True)
@@ -97,18 +99,6 @@ def gap(kind, kappa, reading, psi, n, label=None, accuracy=taylor.PRECISE):
     return point.s - T, (signs, branch), point
 
 
-def minimum(kind, kappa, reading, n, label, psi_lo, psi_hi, accuracy=taylor.PRECISE, xtol=1e-9):
-    """(min of G_label over [psi_lo, psi_hi], its psi): Brent's minimisation (scipy, bounded)."""
-    from scipy.optimize import minimize_scalar
-
-    def g(psi):
-        found = gap(kind, kappa, reading, psi, n, label, accuracy)
-        return math.inf if found is None else found[0]
-
-    best = minimize_scalar(g, bounds=(psi_lo, psi_hi), method="bounded", options={"xatol": xtol})
-    return float(best.fun), float(best.x)
-
-
 def profile(kind, kappa, reading, n, psis, accuracy=taylor.CHECK):
     """[(psi, G, competitor label, SwitchPoint)] at the angles psis (both halves of the circle of
     final costate angles; the seams 0 and pi are avoided), where the n-th switch exists and its
@@ -119,7 +109,7 @@ def profile(kind, kappa, reading, n, psis, accuracy=taylor.CHECK):
             if switch_point(kind, kappa, float(psi), n, accuracy) is None:
                 continue
             up, down = crossing(kind, kappa, float(psi), n, accuracy)
-            if up * down <= 0:
+            if not up * down > 0:
                 continue
             found = gap(kind, kappa, reading, float(psi), n, accuracy=accuracy)
         except ValueError:          # a switch point outside the accepted states (|omega| > 50)
@@ -139,6 +129,8 @@ def crossing(kind, kappa, psi, n, accuracy=taylor.PRECISE, h=1e-6):
     from ..core.model import rhs
 
     p, q, r = (switch_point(kind, kappa, v, n, accuracy) for v in (psi - h, psi, psi + h))
+    if p is None or q is None or r is None:         # the n-th switch appears or disappears here
+        return math.nan, math.nan
     t = (np.array(r.x) - np.array(p.x)) / (2 * h)
     up, down = rhs(np.array(q.x), -q.signs[0], kappa), rhs(np.array(q.x), q.signs[0], kappa)
     return float(t[0] * up[1] - t[1] * up[0]), float(t[0] * down[1] - t[1] * down[0])
@@ -159,8 +151,11 @@ def least_gap(kind, kappa, reading, n, psi_lo, psi_hi, accuracy=taylor.PRECISE, 
 
     def g(psi):
         up, down = crossing(kind, kappa, psi, n, accuracy)
-        found = gap(kind, kappa, reading, psi, n, accuracy=accuracy) if up * down > 0 else None
-        return (math.inf, None) if found is None else found[:2]
+        try:
+            found = gap(kind, kappa, reading, psi, n, accuracy=accuracy) if up * down > 0 else None
+        except ValueError:          # a switch point outside the accepted states (|omega| > 50)
+            found = None
+        return (NOT_CROSSED, None) if found is None else found[:2]
 
     grid = np.linspace(psi_lo, psi_hi, samples)
     values = [g(p)[0] for p in grid]

@@ -37,6 +37,8 @@ from ..indirect import taylor
 MAX_CELLS = 3.0
 #: the finest spacing of the final costate angle
 MIN_SPACING = 1e-9
+#: a jump of the final costate angle between neighbouring cells larger than this marks a dispersal
+MIN_JUMP = math.pi / 4
 #: extremals per half-circle before refinement
 BASE_PSI = 256
 #: an extremal whose time at a point exceeds the value there by this much is not optimal there
@@ -70,7 +72,8 @@ class Window:
 
 @nb.njit(cache=True)
 def _triangle(V, N, P, B, grid, a, b, c, ident, branch):
-    """Draw the triangle of vertices (theta, omega, s, n) a, b, c into V (least s), N, P, B."""
+    """Draw the triangle of vertices (theta, omega, s, n) a, b, c into V (least s), N, P (the
+    strip's interval of final costate angles, ident = (lo, hi)), B (the branch)."""
     x0, dx, y0, dy = grid
     nx, ny = V.shape
     xmin, xmax = min(a[0], b[0], c[0]), max(a[0], b[0], c[0])
@@ -93,7 +96,8 @@ def _triangle(V, N, P, B, grid, a, b, c, ident, branch):
             if s < V[i, j]:
                 V[i, j] = s
                 N[i, j] = a[3] if (l1 >= l2 and l1 >= l3) else (b[3] if l2 >= l3 else c[3])
-                P[i, j] = ident
+                P[i, j, 0] = ident[0]
+                P[i, j, 1] = ident[1]
                 B[i, j] = branch
 
 
@@ -134,8 +138,9 @@ def _strip(V, N, P, B, grid, A, C, ts, ident, circle, max_cells, wide):
 @dataclass(frozen=True)
 class Synthesis:
     """The optimal synthesis on a Window: V (time to the target, inf where no drawn extremal
-    reaches), N (optimal switch count, -1 where none), the final costate angle `psi` and the target
-    branch of the optimal extremal in each cell, the switch points of optimal extremals (theta,
+    reaches), N (optimal switch count, -1 where none), the interval of final costate angles `psi`
+    (n_theta, n_omega, 2) of the field's strip and the target branch of the optimal extremal in
+    each cell, the switch points of optimal extremals (theta,
     omega, time-to-go, which switch counted from the target), the dispersal cells, and how it was
     computed."""
 
@@ -196,7 +201,7 @@ def synthesize(kind, kappa, reading, window, horizon, samples=400):
     field = _Field(kind, kappa, horizon, samples)
     V = np.full((window.n_theta, window.n_omega), np.inf)
     N = np.full(V.shape, -1, dtype=np.int64)
-    P = np.full(V.shape, np.nan)
+    P = np.full(V.shape + (2,), np.nan)
     B = np.zeros(V.shape, dtype=np.int64)
     grid = np.array([window.theta_lo, window.steps[0], window.omega_lo, window.steps[1]])
     circle = reading == "circle"
@@ -215,12 +220,12 @@ def synthesize(kind, kappa, reading, window, horizon, samples=400):
     while pending:
         deferred = []
         for pa, ra, pb, rb, u in pending:
-            count = _strip(V, N, P, B, grid, ra, rb, field.ts, 0.5 * (pa + pb), circle, MAX_CELLS, wide)
+            count = _strip(V, N, P, B, grid, ra, rb, field.ts, np.array([pa, pb]), circle, MAX_CELLS, wide)
             if count:
                 deferred.append((pa, ra, pb, rb, u, wide.copy()))
         pending = []
         for pa, ra, pb, rb, u, w in deferred:
-            if not _undominated(V, grid, window, ra, rb, field.ts, w, circle):
+            if not _undominated(V, grid, ra, rb, field.ts, w, circle):
                 continue
             if pb - pa < 2 * MIN_SPACING:
                 unresolved += 1
@@ -252,13 +257,29 @@ def _cells(grid, window, theta, omega, circle):
     return out
 
 
-def _undominated(V, grid, window, ra, rb, ts, wide, circle):
-    """Whether some corner of a wide quadrilateral lies in the window where no value below its time
-    (minus DOMINATED) is drawn yet: there the strip may be optimal and must be refined."""
-    for j in np.nonzero(wide)[0]:
-        for row, t in ((ra[j], ts[j]), (rb[j], ts[j]), (ra[j + 1], ts[j + 1]), (rb[j + 1], ts[j + 1])):
-            for i, jj, _ in _cells(grid, window, row[0], row[1], circle):
-                if not V[i, jj] < t - DOMINATED:
+@nb.njit(cache=True)
+def _undominated(V, grid, ra, rb, ts, wide, circle):
+    """Whether some corner of a wide quadrilateral lies in the grid (at any theta + 2 pi k on the
+    circle) where no value below its time (minus DOMINATED) is drawn yet: there the strip may be
+    optimal and must be refined."""
+    x0, dx, y0, dy = grid
+    nx, ny = V.shape
+    for j in range(wide.shape[0]):
+        if not wide[j]:
+            continue
+        for c in range(4):
+            row = (ra[j], rb[j], ra[j + 1], rb[j + 1])[c]
+            t = ts[j] if c < 2 else ts[j + 1]
+            jj = int(round((row[1] - y0) / dy))
+            if jj < 0 or jj >= ny:
+                continue
+            k0, k1 = 0, 0
+            if circle:
+                k0 = int(math.ceil((x0 - row[0]) / (2 * math.pi)))
+                k1 = int(math.floor((x0 + dx * (nx - 1) - row[0]) / (2 * math.pi)))
+            for k in range(k0, k1 + 1):
+                i = int(round((row[0] + 2 * math.pi * k - x0) / dx))
+                if 0 <= i < nx and not V[i, jj] < t - DOMINATED:
                     return True
     return False
 
@@ -276,16 +297,82 @@ def _optimal_switch_points(points, V, grid, window, circle):
 
 
 def _dispersal(V, P, B, window):
-    """Cells next to a neighbour whose optimal extremal is of another final sign, another branch,
-    or a final costate angle more than 0.1 rad away: the dispersal curves, boolean array."""
+    """Cells next to a neighbour whose optimal extremal goes to another branch, ends with the other
+    control (the other half of final costate angles), or whose final costate angle differs by
+    more than MIN_JUMP: where two sheets of the field meet with equal values, the dispersal curves
+    (boolean array). Where the field is stretched thin (the costate angle changing fast from cell
+    to cell) the criterion can flag a cell that is not on one."""
+    psi = P.mean(axis=2)
     d = np.zeros(V.shape, dtype=bool)
     for axis in (0, 1):
         a = [slice(None), slice(None)]
         b = [slice(None), slice(None)]
         a[axis], b[axis] = slice(None, -1), slice(1, None)
         a, b = tuple(a), tuple(b)
-        jump = (B[a] != B[b]) | (np.abs(P[a] - P[b]) > 0.1) | ((P[a] < math.pi) != (P[b] < math.pi))
+        change = np.abs(psi[a] - psi[b])
+        jump = (B[a] != B[b]) | ((psi[a] < math.pi) != (psi[b] < math.pi)) | (np.minimum(change, 2 * math.pi - change) > MIN_JUMP)
         jump &= np.isfinite(V[a]) & np.isfinite(V[b])
         d[a] |= jump
         d[b] |= jump
     return d
+
+
+def interior_cells(synthesis):
+    """The cells whose 3 x 3 neighbourhood is drawn, has one switch count and no dispersal cell:
+    away from the switching and dispersal curves, where a map's cell is checked."""
+    N, d, V = synthesis.N, synthesis.dispersal, synthesis.V
+    ok = np.isfinite(V) & ~d
+    same = np.ones(N.shape, dtype=bool)
+    for di in (-1, 0, 1):
+        for dj in (-1, 0, 1):
+            shifted = np.roll(np.roll(N, di, 0), dj, 1)
+            same &= (shifted == N) & np.roll(np.roll(ok, di, 0), dj, 1)
+    same[[0, -1], :] = same[:, [0, -1]] = False
+    return np.argwhere(same & ok)
+
+
+def check(synthesis, count=20, seed=0):
+    """Re-solve `count` random interior cells of the map by `ocp.solve` (the complete search from
+    each state): [(theta, omega, V, N, T, n_switches)]."""
+    from ..core.problem import make
+    from ..solving import solve
+
+    cells = interior_cells(synthesis)
+    rng = np.random.default_rng(seed)
+    w = synthesis.window
+    rows = []
+    for i, j in cells[rng.choice(len(cells), size=min(count, len(cells)), replace=False)]:
+        theta, omega = float(w.theta[i]), float(w.omega[j])
+        sol = solve(make(synthesis.kind, synthesis.kappa, (theta, omega), None if synthesis.reading == "circle" else 0))
+        rows.append((theta, omega, float(synthesis.V[i, j]), int(synthesis.N[i, j]), sol.T, sol.n_switches))
+    return rows
+
+
+def save(synthesis, path):
+    """The Synthesis as a compressed numpy file (arrays and the settings)."""
+    w = synthesis.window
+    np.savez_compressed(path, V=synthesis.V, N=synthesis.N, psi=synthesis.psi, branch=synthesis.branch,
+                        switch_points=synthesis.switch_points, dispersal=synthesis.dispersal,
+                        window=np.array([w.theta_lo, w.theta_hi, w.omega_lo, w.omega_hi, w.n_theta, w.n_omega]),
+                        meta=np.array([synthesis.kind, synthesis.reading, repr(synthesis.kappa), repr(synthesis.horizon),
+                                       str(synthesis.extremals), str(synthesis.unresolved), repr(synthesis.time_s)]))
+    return path
+
+
+def summary(synthesis):
+    """Plain data: settings, switch counts and their cells, coverage, cost."""
+    values, counts = np.unique(synthesis.N, return_counts=True)
+    w = synthesis.window
+    out = {"kind": synthesis.kind, "reading": synthesis.reading, "kappa": synthesis.kappa,
+           "window": {"theta": [w.theta_lo, w.theta_hi], "omega": [w.omega_lo, w.omega_hi],
+                      "grid": [w.n_theta, w.n_omega]},
+           "horizon": synthesis.horizon, "covered": synthesis.covered,
+           "switch_counts": {str(int(v)): int(c) for v, c in zip(values, counts) if v >= 0},
+           "max_switches": int(synthesis.N.max()), "extremals": synthesis.extremals,
+           "unresolved_strips": synthesis.unresolved, "time_s": synthesis.time_s}
+    for n in values:
+        if n >= 2:
+            cells = np.argwhere(synthesis.N == n)
+            out[f"states_with_{int(n)}_switches"] = {"theta": [float(w.theta[cells[:, 0]].min()), float(w.theta[cells[:, 0]].max())],
+                                                     "omega": [float(w.omega[cells[:, 1]].min()), float(w.omega[cells[:, 1]].max())]}
+    return out

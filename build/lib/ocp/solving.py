@@ -3,7 +3,7 @@
     [direct transcription]     if a method is given: its answer, verified by re-simulation; its
                                T (when verified) is a feasible time that sets the search's horizon
     complete extremal search   every extremal reaching the target set before the horizon
-                               (`ocp.indirect.search`); the least T is the answer, ties reported
+                               (`ocp.indirect.searching`); the least T is the answer, ties reported
     verification and certificate  the answer's state and costate integrated again by CVODES, with
                                the costate of automatic differentiation: the miss at the target
                                and the first- and second-order conditions (`ocp.indirect.certificate`)
@@ -23,7 +23,7 @@ import numpy as np
 from .core.errors import InputError
 from .core.problem import Problem
 from .indirect import certify, search as search_extremals
-from .indirect.search import HORIZON_BAND, MARGIN
+from .indirect.searching import HORIZON_BAND, MARGIN
 from .result import DirectClass, SolveStatus, Solution
 
 #: the answer's re-simulated miss must be below this (a refined extremal lands to ~1e-12)

@@ -6,6 +6,6 @@ one-parameter family of extremals from a start for every arrival at the target s
 """
 
 from .certificate import Certificate, certify
-from .search import Coverage, Extremal, Search, search
+from .searching import Coverage, Extremal, Search, search
 
 __all__ = ["Certificate", "certify", "Coverage", "Extremal", "Search", "search"]

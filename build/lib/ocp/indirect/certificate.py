@@ -17,7 +17,7 @@ derivatives are central differences of x(T; d) (`ocp.indirect.taylor.bang`, PREC
 STEP and 2 STEP; their difference is the eigenvalues' error estimate.
 
 Global optimality is the search's claim, not the certificate's: every extremal reaching the target
-before the horizon is compared (`ocp.indirect.search`).
+before the horizon is compared (`ocp.indirect.searching`).
 """
 
 from dataclasses import dataclass
@@ -88,7 +88,7 @@ def _arc(y0, u, duration, kappa):
 
 
 def certify(extremal, x0, kappa):
-    """The Certificate of `extremal` (an `ocp.indirect.search.Extremal`) from x0 for bound kappa."""
+    """The Certificate of `extremal` (an `ocp.indirect.searching.Extremal`) from x0 for bound kappa."""
     signs, durations = extremal.signs, extremal.durations
     y = np.concatenate([np.asarray(x0, float), extremal.p0])
     arcs, at_switch = [], []

@@ -1,0 +1,61 @@
+"""Maps of the optimal synthesis (`ocp.synthesis.field`): the optimal switch count N(theta, omega)
+coloured, the switching curves (switch points of optimal extremals) and the dispersal curves
+(where two optimal controls tie), the state where a bifurcation value's region of n + 1
+switches is born marked, for kappa just below and just above the value."""
+
+import math
+from fractions import Fraction
+
+import matplotlib.pyplot as plt
+from matplotlib.colors import BoundaryNorm, ListedColormap
+import numpy as np
+
+from ..synthesis.field import Window, synthesize
+from .ticks import pi_ticks
+
+#: one colour per switch count (uncovered: white)
+COUNT_COLOURS = ["#ffffff", "#f0f0f0", "#c6dbef", "#6baed6", "#fdae6b", "#e6550d", "#a63603", "#54278f", "#3f007d"]
+#: the maps of `ocp figures`: (name, kind, reading, kappa, window (theta_lo, theta_hi, omega_lo, omega_hi), horizon)
+MAPS = (
+    ("synthesis-swing-up-circle-0.79", "swing-up", "circle", 0.79, (-math.pi, math.pi, -3.0, 3.0), 10.0),
+    ("synthesis-swing-up-circle-0.81", "swing-up", "circle", 0.81, (-math.pi, math.pi, -3.0, 3.0), 10.0),
+    ("synthesis-swing-up-circle-0.42", "swing-up", "circle", 0.42, (-math.pi, math.pi, -3.0, 3.0), 16.0),
+    ("synthesis-swing-up-circle-0.45", "swing-up", "circle", 0.45, (-math.pi, math.pi, -3.0, 3.0), 16.0),
+    ("synthesis-damping-circle-1.0", "damping", "circle", 1.0, (-math.pi, math.pi, -12.0, 12.0), 14.0),
+    ("synthesis-damping-circle-1.1", "damping", "circle", 1.1, (-math.pi, math.pi, -12.0, 12.0), 14.0),
+    ("synthesis-swing-up-plane-1.0", "swing-up", "plane", 1.0, (-3 * math.pi, 5 * math.pi, -6.0, 6.0), 12.0),
+    ("synthesis-damping-plane-1.0", "damping", "plane", 1.0, (-4 * math.pi, 4 * math.pi, -6.0, 6.0), 12.0),
+)
+
+
+def map_data(kind, reading, kappa, window, horizon, resolution=(601, 361)):
+    """The Synthesis of a map (the data of the figure)."""
+    return synthesize(kind, kappa, reading, Window(*window, *resolution), horizon)
+
+
+def draw_map(s, marked=()):
+    """The figure of a Synthesis `s`; `marked`: states (theta, omega, label) to ring."""
+    w = s.window
+    top = max(3, int(s.N.max()) + 1)
+    cmap = ListedColormap(COUNT_COLOURS[:top + 2])
+    norm = BoundaryNorm(np.arange(-1.5, top + 1.5), cmap.N)
+    fig, ax = plt.subplots(figsize=(7.2, 4.8))
+    image = ax.imshow(s.N.T, origin="lower", extent=(w.theta_lo, w.theta_hi, w.omega_lo, w.omega_hi),
+                      aspect="auto", cmap=cmap, norm=norm, interpolation="nearest")
+    bar = fig.colorbar(image, ax=ax, ticks=range(-1, top + 1))
+    bar.ax.set_yticklabels(["not reached"] + [str(n) for n in range(0, top + 1)])
+    bar.set_label("optimal number of switches N")
+    d = np.argwhere(s.dispersal)
+    ax.plot(w.theta[d[:, 0]], w.omega[d[:, 1]], ",", color="black", alpha=0.6)
+    if len(s.switch_points):
+        ax.plot(s.switch_points[:, 0], s.switch_points[:, 1], ".", color="#08306b", ms=1.0)
+    handles = [ax.plot([], [], "s", color="black", ms=3)[0], ax.plot([], [], ".", color="#08306b")[0]]
+    labels = ["dispersal curve (two optimal controls tie)", "switching curve (switch points of optimal extremals)"]
+    for theta, omega, label in marked:
+        handles.append(ax.plot(theta, omega, "o", mfc="none", mec="#d62728", ms=11, mew=1.6)[0])
+        labels.append(label)
+    pi_ticks(ax.xaxis, w.theta_lo, w.theta_hi, step=Fraction(1) if w.theta_hi - w.theta_lo > 8 else Fraction(1, 2))
+    ax.set(xlim=(w.theta_lo, w.theta_hi), ylim=(w.omega_lo, w.omega_hi), xlabel=r"$\theta$ (rad; 0 hanging, π upright)",
+           ylabel=r"$\omega$", title=f"{s.kind}, κ = {s.kappa:g}, on the {s.reading}: optimal switch count")
+    ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7)
+    return fig

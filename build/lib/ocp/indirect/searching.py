@@ -1,0 +1,441 @@
+"""The complete search of extremals from a start: every Pontryagin extremal that reaches the target
+set before a horizon, the least time among them the global minimum.
+
+The extremals from x0 form a one-parameter family. The costate direction at t = 0,
+p(0) = (cos phi, sin phi), fixes everything: u = sign(p2) switched at the zeros of p2, and the
+scale of p is set by H = 0 (p . f(x0, u0) = 1), which needs p . f(x0, u0) > 0 (normal extremals;
+= 0 are the abnormal ones, the end points of the admissible set). Singular arcs are impossible:
+p2 = 0 on an interval forces p1 = -p2' = 0 there, so p = 0, which the maximum principle excludes.
+The angle phi splits into two half-circles by the first control, u0 = +1 on (0, pi) and u0 = -1
+on (pi, 2 pi); at their ends p2(0) = 0 and the first arc has zero length. Each half, cut to its
+admissible interval, is scanned.
+
+Along an extremal, the turning points (omega = 0) are labelled (arc, index within the arc).
+Inside a half-interval a label is a smooth function of phi: switches are transversal (p2 = 0
+gives p1*omega = 1), so a turning point cannot cross a switch, and turning points are created or
+destroyed only where the trajectory would reach an equilibrium of its arc's field (never in finite
+time) or at the horizon. An extremal reaches the target (theta*, 0) exactly when one of its turning
+points has theta = theta*: arrivals are the roots of theta_label(phi) - theta*_k, for every branch
+k (the circle) or the pinned one (the plane).
+
+The scan samples phi (SAMPLES per half), then bisects adaptively: an interval [a, b] is resolved
+when, for every label, the range of its three values widened by NEAR times their variation
+(|theta_m - theta_a| + |theta_b - theta_m|) excludes every allowed target, or brackets one target
+with monotone values and the midpoint's departure from linear interpolation e <= LINEAR *
+|theta_b - theta_a| (one crossing, located by a sign change in one half). A label present at some of a, m, b only (its turning point crosses the horizon) before
+the acceptance horizon also forces a split. Intervals are not split below MIN_WIDTH; such an
+interval that is still unresolved is reported. A missed arrival would therefore be a crossing
+hidden in an interval where the turning point's angle makes an excursion beyond its sampled
+variation to reach a target (a pair of arrivals born at a fold, narrower than the sampling there). Each bracketed arrival is solved by Brent's method in phi
+with the PRECISE Taylor integration, and again with CHECK: the difference is its error estimate.
+"""
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.roots import brent
+from . import taylor
+
+EPS = 2.220446049250313e-16
+#: phi samples per admissible half-circle before adaptive bisection
+SAMPLES = 32
+#: the scan starts this far inside the ends of an admissible interval: there p2(0) = 0 (the first
+#: arc has zero length; from rest a turning point is born at t = 0) or p . f(x0, u0) = 0 (abnormal
+#: extremals, whose switches may meet a turning point). The ends themselves are checked apart.
+END_OFFSET = 1e-9
+#: an end extremal whose turning point comes this close to a target is reported, not scanned
+END_NEAR = 1e-6
+#: finest phi spacing of the bisection
+MIN_WIDTH = 1e-10
+#: a bracket is one crossing when the midpoint departs from linear by at most this fraction
+LINEAR = 0.25
+#: an interval is examined for a crossing when a target lies within NEAR times the variation of
+#: the turning point's angle over it from the sampled values (a narrow excursion could reach it)
+NEAR = 1.0
+#: arrivals are accepted before horizon * (1 - HORIZON_BAND): the turning points between that and
+#: the horizon are seen, so that one whose time dips before it between two samples is resolved
+HORIZON_BAND = 0.2
+#: arrivals within this relative time of the best, and the next one, are solved to PRECISE accuracy
+TIE_WINDOW = 1e-6
+#: a turning point missing at a sample is looked for up to this many horizons
+EXTEND = 1.5
+#: a turning point seen at one sample only is resolved when its time there is within this fraction
+#: of the horizon band past the acceptance (it may dip before the acceptance between samples)
+DIP = 0.5
+#: a turning point that goes to infinite time this far from every target cannot hide an arrival
+FAR = 1e-2
+#: a turning point's angle changing by more than this over the finest spacing is discontinuous there
+JUMP = 1.0
+#: the scan extends to the best arrival time times (1 + MARGIN), to report the runner-up
+MARGIN = 0.2
+#: the horizon grows by this factor while no arrival is found, up to MAX_HORIZON
+GROWTH = 1.5
+MAX_HORIZON = 400.0
+
+
+@dataclass(frozen=True)
+class Extremal:
+    """An extremal that reaches the target (theta_k, 0) at time T: costate angle `phi` at t = 0
+    (p(0) = (cos phi, sin phi) / (p . f(x0, u0)) so that H = 0), arc `signs`, `switch_times`,
+    `switch_states` (theta, omega), and error estimates of T and of the switch times: `solved` is
+    "precise" (PRECISE integration, the error its change from CHECK), "check" (CHECK, the error its
+    change from SCAN) or "exact" (a start on the target: T = 0, no arc). T_error is at least the
+    effect of rounding the target state, eps (|theta*| max(|p1(T)|, 2/(kappa T)) + (kappa + 1)
+    |p2(T)|) (dT = p(T) . dx*, and near the target T ~ 2 sqrt(d/kappa), dT/dd = 2/(kappa T)),
+    which dominates for a transfer in a tiny time."""
+
+    branch: int
+    phi: float
+    T: float
+    signs: tuple
+    switch_times: tuple
+    switch_states: tuple
+    p0: tuple
+    T_error: float
+    switch_time_error: float
+    solved: str
+
+    @property
+    def n_switches(self):
+        return max(len(self.signs) - 1, 0)
+
+    def to_dict(self):
+        return {"branch": self.branch, "T": self.T, "T_error": self.T_error, "arc_signs": list(self.signs),
+                "switch_times": list(self.switch_times), "switch_time_error": self.switch_time_error,
+                "switch_states": [list(x) for x in self.switch_states], "costate_angle": self.phi,
+                "p0": list(self.p0), "solved": self.solved}
+
+    @property
+    def durations(self):
+        return tuple(np.diff((0.0, *self.switch_times, self.T)))
+
+
+@dataclass(frozen=True)
+class Coverage:
+    """What a scan examined: the acceptance `horizon`, the admissible phi `intervals` (lo, hi, u0),
+    the number of extremals integrated, the finest phi spacing reached, the intervals left
+    unresolved at MIN_WIDTH (phi_lo, phi_hi, the nearest approach of a turning point to a target
+    there, -1 if unknown), and the `singular` intervals: isolated to MIN_WIDTH around an extremal
+    that reaches a saddle of its arc's field, whose turning point there stays at least FAR from
+    every target (phi_lo, phi_hi, its distance)."""
+
+    horizon: float
+    intervals: tuple
+    extremals: int
+    finest_spacing: float
+    unresolved: tuple
+    singular: tuple
+    time_s: float
+
+    @property
+    def complete(self):
+        return not self.unresolved
+
+    def to_dict(self):
+        return {"complete": self.complete, "horizon": self.horizon, "intervals": [list(i) for i in self.intervals],
+                "extremals": self.extremals, "finest_spacing": self.finest_spacing,
+                "unresolved": [list(u) for u in self.unresolved], "singular": [list(s) for s in self.singular],
+                "description": self.describe(), "time_s": self.time_s}
+
+    def describe(self):
+        """The scan in words: what a missed extremal would have to look like."""
+        text = (f"complete scan of the costate angle: {self.extremals} extremals over "
+                f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
+                f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g}")
+        if self.singular:
+            text += (f"; {len(self.singular)} extremal(s) reaching a saddle of their arc's field, where a turning "
+                     f"point goes to infinite time, isolated to {MIN_WIDTH:.0e} rad (that turning point stays "
+                     f">= {min(s[2] for s in self.singular):.2g} rad from every target)")
+        if self.unresolved:
+            worst = min(u[2] for u in self.unresolved)
+            text += (f"; {len(self.unresolved)} interval(s) of width {MIN_WIDTH:.0e} left unresolved "
+                     f"(nearest approach to a target {worst:.1e} rad)")
+        return text
+
+
+@dataclass(frozen=True)
+class Search:
+    """The arrivals of a complete search, fastest first, and its Coverage."""
+
+    arrivals: tuple
+    coverage: Coverage
+    notes: tuple = field(default_factory=tuple)
+
+    @property
+    def best(self):
+        return self.arrivals[0] if self.arrivals else None
+
+
+class _Sample:
+    """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
+    index in arc) -> (t, theta)."""
+
+    __slots__ = ("phi", "u0", "duration", "events")
+
+    def __init__(self, family, phi, u0, duration):
+        self.phi, self.u0 = phi, u0
+        self.integrate(family, duration)
+
+    def integrate(self, family, duration):
+        _, _, _, events = family.run(self.phi, self.u0, duration, taylor.SCAN)
+        self.duration = duration
+        self.events = {(int(e[2]), int(e[3])): (e[0], e[1]) for e in events}
+
+
+class _Family:
+    """The extremals from x0 for bound kappa, integrated on demand."""
+
+    def __init__(self, x0, kappa):
+        self.x0 = (float(x0[0]), float(x0[1]))
+        self.kappa = float(kappa)
+        self.count = 0
+        self._switches = np.empty((64, 5))
+        self._events = np.empty((256, 6))
+        self._none = np.empty(0)
+        self._no_samples = np.empty((0, 3))
+
+    def run(self, phi, u0, duration, accuracy):
+        """(switch count, switches, event count, events) of the extremal with costate angle phi."""
+        tol, order = accuracy
+        seam = abs(math.sin(phi)) < 1e-15
+        y0 = np.array([self.x0[0], self.x0[1], math.cos(phi), 0.0 if seam else math.sin(phi)])
+        while True:
+            n_sw, n_ev, _, _, _ = taylor.extremal(y0, self.kappa, float(u0), duration, 1.0, tol, order,
+                                                  self._switches, self._events, self._none, self._no_samples)
+            if n_sw <= len(self._switches) and n_ev <= len(self._events):
+                break
+            self._switches = np.empty((2 * max(n_sw, len(self._switches)), 5))
+            self._events = np.empty((2 * max(n_ev, len(self._events)), 6))
+        self.count += 1
+        return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy()
+
+    def sample(self, phi, u0, duration):
+        return _Sample(self, phi, u0, duration)
+
+
+def admissible_intervals(x0, kappa):
+    """[(lo, hi, u0)]: the costate angles of normal extremals, p . f(x0, u0) > 0 with
+    u0 = sign(sin phi), for u0 = +1 on (0, pi) and u0 = -1 on (pi, 2 pi)."""
+    theta0, omega0 = x0
+    out = []
+    for u0, start in ((1, 0.0), (-1, math.pi)):
+        # p . f = omega0 cos(phi) + (kappa*u0 - sin(theta0)) sin(phi) = R cos(phi - alpha) > 0
+        alpha = math.atan2(kappa * u0 - math.sin(theta0), omega0)
+        s = (alpha - math.pi / 2 - start) % (2 * math.pi)
+        lo, hi = (start + s, start + math.pi) if s < math.pi else (start, start + s - math.pi)
+        if hi - lo > 1e-12:
+            out.append((lo, hi, u0))
+    return out
+
+
+def _targets(problem, lo, hi):
+    """The branches k whose target angle lies in [lo, hi] (the pinned one only, on the plane)."""
+    base = problem.base
+    ks = range(math.ceil((lo - base) / (2 * math.pi)), math.floor((hi - base) / (2 * math.pi)) + 1)
+    return [k for k in ks if problem.branch is None or k == problem.branch]
+
+
+def _distance(problem, theta):
+    """Distance from theta to the nearest allowed target angle."""
+    k = problem.nearest_branch(theta) if problem.branch is None else problem.branch
+    return abs(theta - problem.target(k)[0])
+
+
+def _examine(problem, family, a, m, b, accept, extended):
+    """(split, singular, brackets) for the interval [a.phi, b.phi] with midpoint m: whether it must
+    be bisected, and if only because a turning point goes to infinite time inside it (the extremal
+    reaches an equilibrium of its arc, a saddle), the nearest approach of that turning point to a
+    target; and the brackets (phi_lo, phi_hi, label, branch, time) it resolves. A turning point
+    present at some of a, m, b only is first looked for by integrating the others to `extended`.
+    A turning point whose sampled times, less NEAR times their variation, stay after `accept` is
+    not examined (its time cannot dip before it between the samples)."""
+    split, singular, brackets = False, math.inf, []
+    for label in set(a.events) | set(m.events) | set(b.events):
+        values = [s.events.get(label) for s in (a, m, b)]
+        if None not in values and min(v[0] for v in values) - NEAR * (
+                abs(values[1][0] - values[0][0]) + abs(values[2][0] - values[1][0])) > accept:
+            continue
+        if None in values:
+            for s, v in zip((a, m, b), values):
+                if v is None and s.duration < extended:
+                    s.integrate(family, extended)
+            values = [s.events.get(label) for s in (a, m, b)]
+            if None in values:
+                if min(v[0] for v in values if v is not None) > accept + DIP * (extended / EXTEND - accept):
+                    continue
+                split = True
+                singular = min(singular, *(_distance(problem, v[1]) for v in values if v is not None))
+                continue
+        (ta, tha), (tm, thm), (tb, thb) = values
+        e = abs(thm - 0.5 * (tha + thb))
+        reach = NEAR * (abs(thm - tha) + abs(thb - thm))      # how far a narrow excursion could go
+        ks = _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach)
+        if not ks:
+            continue
+        monotone = (tha <= thm <= thb) or (tha >= thm >= thb)
+        if len(ks) > 1 or not monotone or e > LINEAR * abs(thb - tha):
+            split = True
+            # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
+            # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
+            jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
+            singular = min(singular, *(_distance(problem, th) for th in (tha, thm, thb))) if jump else -1.0
+            continue
+        target = problem.target(ks[0])[0]
+        for (p0, t0, th0), (p1, t1, th1) in (((a.phi, ta, tha), (m.phi, tm, thm)), ((m.phi, tm, thm), (b.phi, tb, thb))):
+            if ((th0 - target) * (th1 - target) < 0 or th1 == target) and min(t0, t1) <= accept:
+                brackets.append((p0, p1, label, ks[0], max(t0, t1)))
+    return split, singular, brackets
+
+
+def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
+    """(phi, switches, turning point) of the extremal whose turning point `label` reaches the target of
+    `branch`, phi in [lo, hi] (a sign change), or None."""
+    target = problem.target(branch)[0]
+    duration = 1.05 * t_guess + 0.1
+
+    def turning_point(phi):
+        nonlocal duration
+        while True:
+            _, switches, _, events = family.run(phi, u0, duration, accuracy)
+            hit = [e for e in events if (int(e[2]), int(e[3])) == label]
+            if hit or duration > 2 * t_guess + 10:
+                return (hit[0] if hit else None), switches
+            duration *= 1.5
+
+    def g(phi):
+        event, _ = turning_point(phi)
+        return math.nan if event is None else event[1] - target
+
+    ga, gb = g(lo), g(hi)
+    if not ga * gb <= 0:
+        return None
+    phi = brent(g, lo, hi, 1e-17, ga, gb)
+    event, switches = turning_point(phi)
+    return None if event is None else (phi, switches, event)
+
+
+def _polish(family, problem, u0, label, branch, near, lo, hi, t_guess, accuracy):
+    """_root at `accuracy` in a bracket grown around `near` (a root at a lower accuracy) inside [lo, hi]."""
+    width = 1e-9 * max(1.0, abs(near))
+    while True:
+        a, b = max(lo, near - width), min(hi, near + width)
+        found = _root(family, problem, u0, label, branch, a, b, t_guess, accuracy)
+        if found is not None or (a == lo and b == hi):
+            return found
+        width *= 100
+
+
+def _arrival(x0, kappa, u0, branch, label, solution, error_of, solved):
+    """The Extremal of a solved turning point, its errors the differences to `error_of` (a solution
+    of the same arrival at a lower accuracy)."""
+    phi, switches, event = solution
+    arc = label[0]
+    times = tuple(float(t) for t in switches[:arc, 0])
+    other = tuple(float(t) for t in error_of[1][:arc, 0])
+    scale = x0[1] * math.cos(phi) + (kappa * u0 - math.sin(x0[0])) * math.sin(phi)
+    # rounding of the target state moves T by p(T) . dx (H = 0 fixes p(T): p2(T) kappa u_T = 1)
+    u_T = u0 * (-1) ** arc
+    p1_T, p2_T = event[4] / (event[5] * kappa * u_T), 1 / (kappa * u_T)
+    theta_T = event[1]
+    T = float(event[0])
+    floor = EPS * (max(1.0, abs(theta_T)) * max(abs(p1_T), 2 / (kappa * T)) + (kappa + 1) * abs(p2_T))
+    return Extremal(
+        branch=branch, phi=phi, T=float(event[0]),
+        signs=tuple(int(u0 * (-1) ** i) for i in range(arc + 1)),
+        switch_times=times, switch_states=tuple((float(s[1]), float(s[2])) for s in switches[:arc]),
+        p0=(math.cos(phi) / scale, math.sin(phi) / scale),
+        T_error=max(float(abs(event[0] - error_of[2][0])), floor),
+        switch_time_error=max((abs(a - b) for a, b in zip(times, other)), default=0.0), solved=solved)
+
+
+def _distinct(arrivals):
+    """The arrivals with duplicates dropped: one trajectory reached from several costate angles (an
+    arrival before the first switch does not depend on the costate) is one extremal."""
+    kept = []
+    for a in arrivals:
+        if not any(a.signs == b.signs and a.branch == b.branch and abs(a.T - b.T) <= 10 * (a.T_error + b.T_error)
+                   and np.allclose(a.switch_times, b.switch_times, rtol=0, atol=10 * (a.T_error + b.T_error))
+                   for b in kept):
+            kept.append(a)
+    return kept
+
+
+def scan(problem, horizon):
+    """(arrivals, Coverage) of every extremal reaching the target before horizon * (1 - HORIZON_BAND)."""
+    start = time.perf_counter()
+    family = _Family(problem.x0, problem.kappa)
+    accept = horizon * (1 - HORIZON_BAND)
+    intervals = admissible_intervals(problem.x0, problem.kappa)
+    brackets, unresolved, singular, finest = [], [], [], math.inf
+    for lo, hi, u0 in intervals:
+        for end in (family.sample(lo, u0, horizon), family.sample(hi, u0, horizon)):
+            near = min((_distance(problem, th) for t, th in end.events.values() if t <= accept), default=math.inf)
+            if near < END_NEAR:
+                unresolved.append((end.phi, end.phi, near))
+        grid = [family.sample(phi, u0, horizon) for phi in np.linspace(lo + END_OFFSET, hi - END_OFFSET, SAMPLES + 1)]
+        stack = list(zip(grid[:-1], grid[1:]))
+        while stack:
+            a, b = stack.pop()
+            m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
+            split, near, found = _examine(problem, family, a, m, b, accept, EXTEND * horizon)
+            brackets += [(u0, f) for f in found]
+            finest = min(finest, 0.5 * (b.phi - a.phi))
+            if split and b.phi - a.phi > 2 * MIN_WIDTH:
+                stack += [(a, m), (m, b)]
+            elif split and near >= FAR:
+                singular.append((a.phi, b.phi, near))
+            elif split:
+                unresolved.append((a.phi, b.phi, near))
+    # every arrival solved to CHECK accuracy (its error: the change from SCAN), ranked; the best, those
+    # within TIE_WINDOW of it and the runner-up then to PRECISE (their error: the change from CHECK)
+    solved = []
+    for u0, (lo, hi, label, branch, t_guess) in brackets:
+        rough = _root(family, problem, u0, label, branch, lo, hi, t_guess, taylor.SCAN)
+        if rough is None:
+            continue
+        check = _polish(family, problem, u0, label, branch, rough[0], lo, hi, t_guess, taylor.CHECK)
+        if check is not None and check[2][0] <= accept:
+            solved.append((u0, lo, hi, label, branch, rough, check))
+    solved.sort(key=lambda s: s[-1][2][0])
+    arrivals = []
+    for i, (u0, lo, hi, label, branch, rough, check) in enumerate(solved):
+        important = check[2][0] <= solved[0][-1][2][0] * (1 + TIE_WINDOW) or \
+            i == next((j for j, s in enumerate(solved) if s[-1][2][0] > solved[0][-1][2][0] * (1 + TIE_WINDOW)), -1)
+        precise = important and _polish(family, problem, u0, label, branch, check[0], lo, hi, check[2][0],
+                                        taylor.PRECISE)
+        if precise:
+            arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, precise, check, "precise"))
+        else:
+            arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, check, rough, "check"))
+    arrivals = _distinct(sorted(arrivals, key=lambda r: r.T))
+    coverage = Coverage(accept, tuple(intervals), family.count, finest, tuple(unresolved), tuple(singular),
+                        time.perf_counter() - start)
+    return arrivals, coverage
+
+
+def search(problem, horizon=None, margin=MARGIN):
+    """The complete Search of `problem`: scans with a horizon growing by GROWTH from
+    GROWTH * problem.lower_bound (or from `horizon`, e.g. a feasible time known) until an arrival
+    is found, then once more to the best time times (1 + margin) if the scan stopped short of it."""
+    k = problem.at_target()
+    if k is not None:
+        on_target = Extremal(k, math.nan, 0.0, (), (), (), (math.nan, math.nan), 0.0, 0.0, "exact")
+        return Search((on_target,), Coverage(0.0, (), 0, math.nan, (), (), 0.0), ("the start is on the target",))
+    horizon = GROWTH * problem.lower_bound if horizon is None else float(horizon)
+    notes = []
+    while True:
+        arrivals, coverage = scan(problem, horizon)
+        if arrivals:
+            wanted = arrivals[0].T * (1 + margin) / (1 - HORIZON_BAND)
+            if horizon >= wanted:
+                return Search(tuple(arrivals), coverage, tuple(notes))
+            notes.append(f"scanned to {horizon:.4g}, extended to {wanted:.4g} for the runner-up")
+            horizon = wanted
+            continue
+        if horizon >= MAX_HORIZON:
+            return Search((), coverage, tuple(notes + [f"no extremal reaches the target before {horizon:.4g}"]))
+        notes.append(f"no arrival before {horizon:.4g}")
+        horizon = min(GROWTH * horizon, MAX_HORIZON)

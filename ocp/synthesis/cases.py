@@ -1,0 +1,47 @@
+"""Where each bifurcation value was located: the bracket of kappa (states with n + 1 switches at
+kappa_lo, none at kappa_hi) and the window of final costate angles psi whose extremals carry them.
+
+Located by the maps (`ocp synthesis KIND --kappa ...`: the switch counts over a window) and by the
+least gap of `ocp.synthesis.bifurcation.profile` scanned over every psi whose (n + 1)-th switch
+comes within 20 time units (300 to 400 angles) at kappa_lo; `ocp bifurcation` recomputes each value
+from its case. The mirror image (theta -> -theta, psi -> psi + pi) carries the same value.
+"""
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Case:
+    kind: str
+    reading: str
+    n: int
+    kappa_lo: float
+    kappa_hi: float
+    psi_lo: float
+    psi_hi: float
+    located: str
+
+    @property
+    def id(self):
+        return f"{self.kind}/{self.reading}/{self.n}"
+
+
+CASES = (
+    Case("swing-up", "circle", 1, 0.795, 0.81, 2.47, 2.50,
+         "maps: 2 switches near the origin at kappa = 0.79, none at 0.81; least gap at psi = 2.4869"),
+    Case("swing-up", "circle", 2, 0.43, 0.45, 2.40, 2.50,
+         "maps: 3 switches near the origin at kappa = 0.42, none at 0.44; least gap at psi = 2.4550"),
+    Case("swing-up", "circle", 3, 0.25, 0.30, 5.50, 5.65,
+         "maps: 4 switches near the origin at kappa = 0.25, none at 0.30; least gap at psi = 5.5873"),
+    Case("damping", "circle", 1, 1.0, 1.04, 2.15, 2.30,
+         "least gap: negative at kappa = 1.0 (psi = 2.235, a switch point at omega = 7.3), positive at 1.04"),
+)
+
+
+def find(case_id):
+    """The Case of an id "KIND/READING/N"."""
+    for case in CASES:
+        if case.id == case_id:
+            return case
+    from ..core.errors import InputError
+    raise InputError(f"unknown case {case_id!r}; accepted: {', '.join(c.id for c in CASES)}")

@@ -27,7 +27,9 @@ the acceptance horizon also forces a split. Intervals are not split below MIN_WI
 interval that is still unresolved is reported. A missed arrival would therefore be a crossing
 hidden in an interval where the turning point's angle makes an excursion beyond its sampled
 variation to reach a target (a pair of arrivals born at a fold, narrower than the sampling there). Each bracketed arrival is solved by Brent's method in phi
-with the PRECISE Taylor integration, and again with CHECK: the difference is its error estimate.
+with the PRECISE Taylor integration, and again with CHECK and with PRECISE_ALT (another order and
+step, so another rounding): SAFETY times the largest difference, plus the rounding floor, is its
+error estimate.
 """
 
 import math
@@ -58,6 +60,8 @@ NEAR = 1.0
 #: arrivals are accepted before horizon * (1 - HORIZON_BAND): the turning points between that and
 #: the horizon are seen, so that one whose time dips before it between two samples is resolved
 HORIZON_BAND = 0.2
+#: the error estimate is this many times the spread of the solutions at the other accuracies
+SAFETY = 3.0
 #: arrivals within this relative time of the best, and the next one, are solved to PRECISE accuracy
 TIE_WINDOW = 1e-6
 #: a turning point missing at a sample is looked for up to this many horizons
@@ -81,9 +85,10 @@ class Extremal:
     """An extremal that reaches the target (theta_k, 0) at time T: costate angle `phi` at t = 0
     (p(0) = (cos phi, sin phi) / (p . f(x0, u0)) so that H = 0), arc `signs`, `switch_times`,
     `switch_states` (theta, omega), and error estimates of T and of the switch times: `solved` is
-    "precise" (PRECISE integration, the error its change from CHECK), "check" (CHECK, the error its
-    change from SCAN) or "exact" (a start on the target: T = 0, no arc). T_error is at least the
-    effect of rounding the target state, eps (|theta*| max(|p1(T)|, 2/(kappa T)) + (kappa + 1)
+    "precise" (PRECISE integration, the error from CHECK and PRECISE_ALT), "check" (CHECK, the error its
+    change from SCAN) or "exact" (a start on the target: T = 0, no arc). T_error adds the rounding
+    accumulated over the Taylor steps (eps max(1, T) per step), and at least the effect of rounding
+    the target state, eps (|theta*| max(|p1(T)|, 2/(kappa T)) + (kappa + 1)
     |p2(T)|) (dT = p(T) . dx*, and near the target T ~ 2 sqrt(d/kappa), dT/dd = 2/(kappa T)),
     which dominates for a transfer in a tiny time."""
 
@@ -203,13 +208,14 @@ class _Family:
         seam = abs(math.sin(phi)) < 1e-15
         y0 = np.array([self.x0[0], self.x0[1], math.cos(phi), 0.0 if seam else math.sin(phi)])
         while True:
-            n_sw, n_ev, _, _, _ = taylor.extremal(y0, self.kappa, float(u0), duration, 1.0, tol, order,
-                                                  self._switches, self._events, self._none, self._no_samples)
+            n_sw, n_ev, _, _, steps = taylor.extremal(y0, self.kappa, float(u0), duration, 1.0, tol, order,
+                                                      self._switches, self._events, self._none, self._no_samples)
             if n_sw <= len(self._switches) and n_ev <= len(self._events):
                 break
             self._switches = np.empty((2 * max(n_sw, len(self._switches)), 5))
             self._events = np.empty((2 * max(n_ev, len(self._events)), 6))
         self.count += 1
+        self.steps_per_time = steps / duration
         return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy()
 
     def sample(self, phi, u0, duration):
@@ -291,8 +297,8 @@ def _examine(problem, family, a, m, b, accept, extended):
 
 
 def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
-    """(phi, switches, turning point) of the extremal whose turning point `label` reaches the target of
-    `branch`, phi in [lo, hi] (a sign change), or None."""
+    """(phi, switches, turning point, Taylor steps to it) of the extremal whose turning point `label`
+    reaches the target of `branch`, phi in [lo, hi] (a sign change), or None."""
     target = problem.target(branch)[0]
     duration = 1.05 * t_guess + 0.1
 
@@ -314,7 +320,7 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
         return None
     phi = brent(g, lo, hi, 1e-17, ga, gb)
     event, switches = turning_point(phi)
-    return None if event is None else (phi, switches, event)
+    return None if event is None else (phi, switches, event, family.steps_per_time * event[0])
 
 
 def _polish(family, problem, u0, label, branch, near, lo, hi, t_guess, accuracy):
@@ -329,12 +335,13 @@ def _polish(family, problem, u0, label, branch, near, lo, hi, t_guess, accuracy)
 
 
 def _arrival(x0, kappa, u0, branch, label, solution, error_of, solved):
-    """The Extremal of a solved turning point, its errors the differences to `error_of` (a solution
-    of the same arrival at a lower accuracy)."""
-    phi, switches, event = solution
+    """The Extremal of a solved turning point, its errors SAFETY times the largest difference to the
+    solutions in `error_of` (the same arrival at other accuracies), plus the rounding floor."""
+    phi, switches, event, steps = solution
     arc = label[0]
     times = tuple(float(t) for t in switches[:arc, 0])
-    other = tuple(float(t) for t in error_of[1][:arc, 0])
+    T_spread = max(abs(event[0] - other[2][0]) for other in error_of)
+    times_spread = max((abs(a - float(b)) for other in error_of for a, b in zip(times, other[1][:arc, 0])), default=0.0)
     scale = x0[1] * math.cos(phi) + (kappa * u0 - math.sin(x0[0])) * math.sin(phi)
     # rounding of the target state moves T by p(T) . dx (H = 0 fixes p(T): p2(T) kappa u_T = 1)
     u_T = u0 * (-1) ** arc
@@ -342,13 +349,16 @@ def _arrival(x0, kappa, u0, branch, label, solution, error_of, solved):
     theta_T = event[1]
     T = float(event[0])
     floor = EPS * (max(1.0, abs(theta_T)) * max(abs(p1_T), 2 / (kappa * T)) + (kappa + 1) * abs(p2_T))
+    # the rounding accumulated over the Taylor steps, an error of eps * |y| per step carried to T
+    floor += EPS * steps * max(1.0, T)
     return Extremal(
         branch=branch, phi=phi, T=float(event[0]),
         signs=tuple(int(u0 * (-1) ** i) for i in range(arc + 1)),
         switch_times=times, switch_states=tuple((float(s[1]), float(s[2])) for s in switches[:arc]),
         p0=(math.cos(phi) / scale, math.sin(phi) / scale),
-        T_error=max(float(abs(event[0] - error_of[2][0])), floor),
-        switch_time_error=max((abs(a - b) for a, b in zip(times, other)), default=0.0), solved=solved)
+        T_error=SAFETY * float(T_spread) + floor,
+        switch_time_error=SAFETY * times_spread + EPS * steps * max(1.0, T),
+        solved=solved)
 
 
 def _distinct(arrivals):
@@ -406,10 +416,13 @@ def scan(problem, horizon):
             i == next((j for j, s in enumerate(solved) if s[-1][2][0] > solved[0][-1][2][0] * (1 + TIE_WINDOW)), -1)
         precise = important and _polish(family, problem, u0, label, branch, check[0], lo, hi, check[2][0],
                                         taylor.PRECISE)
-        if precise:
-            arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, precise, check, "precise"))
+        alternative = precise and _polish(family, problem, u0, label, branch, precise[0], lo, hi, check[2][0],
+                                          taylor.PRECISE_ALT)
+        if precise and alternative:
+            arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, precise, (check, alternative),
+                                     "precise"))
         else:
-            arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, check, rough, "check"))
+            arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, check, (rough,), "check"))
     arrivals = _distinct(sorted(arrivals, key=lambda r: r.T))
     coverage = Coverage(accept, tuple(intervals), family.count, finest, tuple(unresolved), tuple(singular),
                         time.perf_counter() - start)

@@ -25,9 +25,11 @@ import numpy as np
 
 #: samples per step where sign changes are looked for
 SUBSTEPS = 8
-#: (tol, order) of the scan, of the precise solution, and of the check that estimates its error
+#: (tol, order) of the scan, of the precise solution, and of the checks that estimate its error
+#: (CHECK: a lower accuracy; PRECISE_ALT: as accurate, another order and step, another rounding)
 SCAN = (1e-9, 11)
 PRECISE = (1e-16, 20)
+PRECISE_ALT = (3e-17, 24)
 CHECK = (1e-12, 16)
 
 

@@ -167,7 +167,7 @@ def least_gap(kind, kappa, reading, n, psi_lo, psi_hi, accuracy=taylor.PRECISE, 
 
 
 def root_in_kappa(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, accuracy=taylor.PRECISE, xtol=1e-10,
-                  ktol=1e-12, trace=None):
+                  ktol=1e-12, trace=None, samples=24):
     """kappa_n: the root of the least gap m(kappa) in [kappa_lo, kappa_hi] (m < 0 at kappa_lo,
     > 0 at kappa_hi), the psi window [psi_lo, psi_hi] re-centred on each minimiser. Returns
     (kappa, psi, label)."""
@@ -176,8 +176,9 @@ def root_in_kappa(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, accuracy
 
     def m(kappa):
         value, psi, label = least_gap(kind, kappa, reading, n, state["psi"] - width, state["psi"] + width,
-                                      accuracy, xtol)
-        state.update(psi=psi, label=label)
+                                      accuracy, xtol, samples)
+        if label is not None:                     # the last angle where the switch is crossed
+            state.update(psi=psi, label=label)
         if trace:
             trace(kappa, value, psi, label)
         return value
@@ -244,6 +245,15 @@ def bifurcation(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, trace=None
     point = switch_point(kind, k, psi, n + 1)
     mechanism = (f"a tie, tangent at the {_ordinal(n + 1)} switching point, with the extremal {label[0]} to "
                  f"branch {label[1]}")
+    above = least_gap(kind, k + 1e-9, reading, n + 1, psi - 0.5 * (psi_hi - psi_lo), psi + 0.5 * (psi_hi - psi_lo))[0]
+    if above >= NOT_CROSSED / 2:
+        # the least gap jumps: the region ends where its switching curve stops being crossed, and
+        # the root is the edge of the crossed angles, found as finely as they are sampled
+        routes["least gap, PRECISE, psi sampled 4x finer"] = root_in_kappa(
+            kind, reading, n + 1, kappa_lo, kappa_hi, psi_lo, psi_hi, taylor.PRECISE, 1e-10, 1e-13, samples=96)[0]
+        mechanism = (f"the region of {n + 1} switches vanishes where the {_ordinal(n + 1)} switching curve stops "
+                     f"being crossed by the arriving trajectories (its crossed part shrinks to a point) while it "
+                     f"still beats every other extremal; located by sampling the final costate angle")
     w = 1e-4
     if np.sign(tangency(kind, k, psi - w, n + 1)) != np.sign(tangency(kind, k, psi + w, n + 1)):
         dk = 1e-3 * (kappa_hi - kappa_lo)

@@ -1,0 +1,76 @@
+"""The optimal synthesis maps and the bifurcation values (issue 14).
+
+References: `ocp.solve` (the complete search of extremals from each state, tests/test_search.py)
+for the maps; for the bifurcation value, a bracketing by the maps themselves (states with two
+switches just below the value, none just above), an independent route to the value that does not
+use its equations."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from ocp.cli import main
+from ocp.synthesis import bifurcation, results
+from ocp.synthesis.field import Window, check, synthesize
+
+
+@pytest.mark.parametrize("kind, reading, kappa, window", [
+    ("swing-up", "circle", 0.79, (-math.pi, math.pi, -3, 3)),
+    ("damping", "circle", 0.9, (-math.pi, math.pi, -4, 4)),
+    ("swing-up", "plane", 1.0, (-2 * math.pi, 3 * math.pi, -3, 3)),
+    ("damping", "plane", 0.7, (-2 * math.pi, 2 * math.pi, -3, 3)),
+])
+def test_the_map_agrees_with_the_search_at_random_states(kind, reading, kappa, window):
+    s = synthesize(kind, kappa, reading, Window(*window, 161, 101), 12.0)
+    assert s.covered > 0.5 and s.unresolved == 0
+    rows = check(s, count=6, seed=3)
+    assert len(rows) == 6
+    for theta, omega, V, N, T, n in rows:
+        # the map interpolates the field linearly on triangles of a few cells: its error is of
+        # the order of the cell size times the speed of the value (measured below 2e-3 here)
+        assert abs(V - T) < 5e-3, (theta, omega)
+        assert N == n, (theta, omega)
+
+
+def test_the_value_is_bracketed_by_the_maps():
+    """kappa_1 of the swing-up on the circle: the least-gap root (route at CHECK accuracy), and the
+    maps just below it (states with two switches near the origin) and just above (none)."""
+    kappa, psi, label = bifurcation.root_in_kappa("swing-up", "circle", 2, 0.795, 0.81, 2.47, 2.50,
+                                                  accuracy=bifurcation.taylor.CHECK, xtol=1e-8, ktol=1e-9)
+    assert label == ((1, -1), 1)
+    window = Window(-0.6, 0.6, -0.8, 0.8, 241, 161)
+    below = synthesize("swing-up", kappa - 0.004, "circle", window, 8.0)
+    above = synthesize("swing-up", kappa + 0.004, "circle", window, 8.0)
+    assert np.count_nonzero(below.N == 2) > 0 and np.count_nonzero(above.N >= 2) == 0
+
+
+def test_the_stored_values_carry_their_provenance():
+    rows = results.load(results.__file__.replace("results.py", "data/bifurcation.jsonl"))
+    assert {"swing-up/circle/1", "swing-up/circle/2", "damping/circle/1"} <= set(rows)
+    for row in rows.values():
+        assert 0 < row["error"] < 1e-6 and row["commit"] and len(row["routes"]) >= 2
+        assert max(row["routes"].values()) - min(row["routes"].values()) <= row["error"]
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["synthesis", "pendulum", "--kappa", "1"], "swing-up, damping"),
+    (["synthesis", "swing-up", "--kappa", "0"], "kappa"),
+    (["synthesis", "swing-up", "--kappa", "1", "--grid", "5", "5"], "grid"),
+    (["synthesis", "swing-up", "--kappa", "1", "--window", "1", "0", "-1", "1"], "window"),
+    (["bifurcation", "--case", "swing-up/square/1"], "accepted"),
+])
+def test_bad_input_is_one_line_and_exit_2(argv, says, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and says in err
+
+
+def test_synthesis_command_writes_a_map_and_says_what_it_holds(tmp_path, capsys):
+    argv = ["synthesis", "swing-up", "--kappa", "1", "--grid", "81", "61", "--horizon", "8", "--out", str(tmp_path),
+            "--format", "png", "--json"]
+    assert main(argv) == 0
+    (out,) = json.loads(capsys.readouterr().out)
+    assert out["max_switches"] == 1 and out["covered"] > 0.99
+    assert all((tmp_path / f.rsplit("/", 1)[-1]).exists() for f in out["files"])

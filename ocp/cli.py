@@ -251,7 +251,7 @@ def _add_bifurcation(sub):
 
 
 def _run_bifurcation(args):
-    from .bench.runner import Progress, executor
+    from .bench.runner import Progress, drain, executor
     from .core.errors import integer
     from .core.output import print_json
     from .synthesis import results as store
@@ -260,16 +260,15 @@ def _run_bifurcation(args):
     jobs = integer("jobs", args.jobs, "an integer from 1 to 64", 1, 64)
     rows = store.load(args.store)
     todo = [c for c in cases if c.id not in rows]
+    def handle(case, row):
+        store.append(args.store, row)               # stored as soon as it is known: an interruption keeps it
+        rows[row["case"]] = row
+        return f"{row['case']}: kappa = {row['kappa']!r}"
+
     if todo:
-        progress = Progress(len(todo), "bifurcation values")
         with executor(jobs, args.scheduler) as (pool, workers, name):
-            futures = {pool.submit(store.compute, c): c for c in todo}
-            import concurrent.futures as cf
-            for future in cf.as_completed(futures):
-                row = future.result()
-                store.append(args.store, row)
-                rows[row["case"]] = row
-                progress.step(f"{row['case']}: kappa = {row['kappa']!r}")
+            drain(pool, workers, [(store.compute, (c,), c) for c in todo], handle,
+                  Progress(len(todo), "bifurcation values"))
     table = [rows[c.id] for c in cases]
     if args.json:
         print_json(table)

@@ -247,7 +247,7 @@ class Progress:
         self.stream.flush()
 
 
-def _drain(pool, workers, tasks, handle, progress):
+def drain(pool, workers, tasks, handle, progress):
     """Submit tasks (fn, args, context), at most 2 per worker in flight; handle(context, result) each
     as it completes. An interruption cancels what has not started; handled rows stay handled."""
     tasks, pending = iter(tasks), {}
@@ -288,7 +288,7 @@ def run(suite, store, pool, workers, executor_name, environment):
         return f"{first_case[key].label}: T = {rec['T']} ({rec['source']})"
 
     if needed:
-        _drain(pool, workers, [(reference, (first_case[k],), k) for k in needed], add_reference,
+        drain(pool, workers, [(reference, (first_case[k],), k) for k in needed], add_reference,
                Progress(len(needed), "references"))
     done = store.done()
     todo = [(c, m) for c, m in suite.pairs() if (c.key, m.key) not in done
@@ -306,7 +306,7 @@ def run(suite, store, pool, workers, executor_name, environment):
         return f"{case.label} | {method.label}: {rec['outcome']}"
 
     if todo:
-        _drain(pool, workers, [(measure, (c, m, suite.repeats, suite.miss_tol), (c, m)) for c, m in todo],
+        drain(pool, workers, [(measure, (c, m, suite.repeats, suite.miss_tol), (c, m)) for c, m in todo],
                add_result, Progress(len(todo), "runs"))
     resumed = sum((c.key, m.key) in done for c, m in suite.pairs())
     return {"session": session, "executor": executor_name, "records": records, "resumed": resumed, "notes": notes}

@@ -72,7 +72,7 @@ def replace_block(path, name, text):
         sys.exit(f"publish: {path.relative_to(ROOT)} has no block {name!r} (markers {begin} ... {end})")
     head, rest = content.split(begin, 1)
     _, tail = rest.split(end, 1)
-    path.write_text(f"{head}{begin}\n{text.strip()}\n{end}{tail}")
+    path.write_text(f"{head}{begin}\n{text.strip(chr(10)).rstrip()}\n{end}{tail}")      # keep the indentation
 
 
 def stamp(record):

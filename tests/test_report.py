@@ -78,5 +78,5 @@ def test_reached_optimum_is_not_judged_without_a_stated_accuracy():
     records = [run("a", "DC", 25, 0.1, 1e-3, T_error=None), run("a", "MS", 25, 0.1, 1e-3, T_error=2e-3),
                run("a", "MS", 50, 0.1, 1e-3, T_error=1e-4)]
     rows = {r["method"]: r for r in report.method_table(records, {"a": 4.0})}
-    assert rows["DC"]["reached optimum"] == "- (1 right structure, no stated accuracy)"
+    assert rows["DC"]["reached optimum"] == "- (+1 right structure, no stated accuracy)"
     assert rows["MS"]["reached optimum"] == "1/2"

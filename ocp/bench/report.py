@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core import plotting
+from ..core.numbers import order
 from .store import Store, to_csv, to_json
 
 GOOD = ("ok", "inaccurate")     # converged to the right structure (accurate or not)
@@ -81,7 +82,7 @@ def _rate(flags):
         return "-"
     text = f"{sum(judged)}/{len(judged)}" if judged else "-"
     unjudged = len(flags) - len(judged)
-    return text + (f" ({unjudged} right structure, no stated accuracy)" if unjudged else "")
+    return text + (f" (+{unjudged} right structure, no stated accuracy)" if unjudged else "")
 
 
 def _median(values, fmt):
@@ -116,8 +117,17 @@ def failure_table(records):
     return [{"method": family, "outcome": outcome, "runs": len(runs),
              "N": " ".join(str(n) for n in sorted({r["N"] for r in runs})),
              "cases": "; ".join(dict.fromkeys(r["case_label"] for r in runs)),
-             "status (first)": runs[0]["status"][:160]}
+             "status (first)": _status(runs[0])[:160]}
             for (family, outcome), runs in groups.items()]
+
+
+def _status(r):
+    """How a run ended, in words: the solver's own message and the suite's (with the re-simulated
+    miss when the control misses the target)."""
+    parts = [r.get("solver_message"), r.get("message") or r["status"]]
+    if r["outcome"] == "misses target" and r.get("resim_miss") is not None:
+        parts.append(f"by {order(r['resim_miss'])}")
+    return ": ".join(p for p in parts if p)
 
 
 def outcome_counts(records):

@@ -211,7 +211,11 @@ class Solution:
                 "switch_time_error": self.switch_time_error,
                 "switch_states": [list(x) for x in self.switch_states], "resim_miss": self.resim_miss,
             })
-        if self.answer is not None:
+        elif self.status == SolveStatus.NOT_VERIFIED:
+            # the evidence of the failure; the extremal that misses gets no T and no error estimate
+            out.update({"resim_miss": self.resim_miss,
+                        "unverified": {"arc_signs": list(self.answer.signs), "branch": self.answer.branch}})
+        if self.answer is not None and self.success:
             out.update({
                 "ties": [t.to_dict() for t in self.ties],
                 "runner_up": None if self.runner_up is None else self.runner_up.to_dict(),
@@ -219,14 +223,17 @@ class Solution:
                 "coverage": None if self.coverage is None else self.coverage.to_dict(),
                 "certificate": None if self.certificate is None else self.certificate.to_dict(),
             })
-        x = self.crosscheck
+        if self.answer is not None and not self.success:
+            out["coverage"] = None if self.coverage is None else self.coverage.to_dict()
+        x = self.crosscheck if self.success else None
         out["crosscheck"] = None if x is None else {
             "formula": x.formula, "max_deviation": x.max_deviation, "T": x.T, "switch_times": list(x.switch_times),
             "switch_states": [list(v) for v in x.switch_states], "formula_error": x.analytic.error}
         out["direct"] = None if self.direct is None else dict(
             self.direct.to_dict(), classified=None if self.direct_class is None else self.direct_class.name.lower(),
             classification=None if self.direct_class is None else DIRECT_MESSAGES[self.direct_class],
-            T_minus_optimum=None if self.answer is None or not self.direct.converged else self.direct.T - self.answer.T)
+            T_minus_optimum=None if self.answer is None or not self.success or not self.direct.success
+            else self.direct.T - self.answer.T)
         out["notes"] = list(self.notes)
         out.update(search_time_s=self.search_time_s, certificate_time_s=self.certificate_time_s,
                    direct_time_s=self.direct_time_s, total_time_s=self.total_time_s)
@@ -237,7 +244,10 @@ class Solution:
         p = self.problem
         lines = [p.describe()]
         if not self.success:
-            lines.append(f"NO SOLUTION: {self.message}")
+            line = f"NO SOLUTION: {self.message}"
+            if self.status == SolveStatus.NOT_VERIFIED:
+                line += f" (by {order(self.resim_miss)}); no time is claimed for it"
+            lines.append(line)
             lines += [f"  {n}" for n in self.notes]
             if self.direct is not None:
                 lines.append(self._direct_line())
@@ -283,9 +293,12 @@ class Solution:
     def _direct_line(self):
         d = self.direct
         head = f"direct: {d.method['transcription']} {describe_method(d.method)}, {d.method['solver']}: {d.message}"
-        if d.converged:
-            bound = f" +- {d.T_bound:.1g}" if d.T_bound else " (no error bound measured)"
-            head += f"; T = {d.T:.6g}{bound}, {d.structure.n_switches} switches, re-simulated miss {d.resim_miss:.1e}"
+        n = d.structure.n_switches
+        if d.success:
+            T = plus_minus(d.T, d.T_bound) if d.T_bound else digits(d.T, None) + ", no error bound measured"
+            head += (f"; T = {T}, {n} switch{'es' if n != 1 else ''}, re-simulated miss {order(d.resim_miss)}")
+        elif d.converged:
+            head += f" by {order(d.resim_miss)} (more than {order(d.miss_tol)}): not a transfer, no time is claimed"
         if self.direct_class is not None:
             head += f"\n  classified: {self.direct_class.name.lower().replace('_', ' ')} ({DIRECT_MESSAGES[self.direct_class]})"
         return head

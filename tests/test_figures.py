@@ -38,25 +38,34 @@ def _ends(traj):
     return traj.arcs[0][1][0], traj.arcs[-1][1][-1]
 
 
-@pytest.mark.parametrize("name, kappa, structures", [("finch-fig1", 1.0, [(1, -1)]), ("finch-fig2", 0.5, [(-1, 1, -1)]),
-                                                     ("finch-kappa-3-4", 0.75, [(-1, 1, -1), (1, -1)])])
-def test_portrait_trajectories(portraits, name, kappa, structures):
+UNDERESTIMATE = pytest.mark.xfail(strict=True, reason=(
+    "the search's error estimate of T for the one-switch extremal at kappa = 3/4 (the runner-up) is "
+    "1.4e-14, its error against Finch's formula (30-digit mpmath quadrature agrees with the formula to "
+    "1e-15) is 1.1e-13: an 8x underestimate, reported to ocp.indirect"))
+
+
+@pytest.mark.parametrize("name, kappa, structures, index", [
+    ("finch-fig1", 1.0, [(1, -1)], 0), ("finch-fig2", 0.5, [(-1, 1, -1)], 0),
+    ("finch-kappa-3-4", 0.75, [(-1, 1, -1), (1, -1)], 0),
+    pytest.param("finch-kappa-3-4", 0.75, [(-1, 1, -1), (1, -1)], 1, marks=UNDERESTIMATE)])
+def test_portrait_trajectories(portraits, name, kappa, structures, index):
     """Certified extremals from (0, 0) to (pi, 0), re-simulated; switch markers at Finch's formulas
-    to the certified accuracy; T as the formulas give it."""
+    to the certified accuracy; T as the formulas give it, within the search's error estimate plus
+    the formula's bound (nothing added: the estimates must cover the difference)."""
     d = portraits[name]
     assert d["kappa"] == kappa
     assert [t.signs for t in d["trajectories"]] == structures
-    for traj in d["trajectories"]:
-        assert traj.certified
-        start, end = _ends(traj)
-        assert np.allclose(start, (0, 0), atol=0) and np.allclose(end, (math.pi, 0), atol=1e-8)
-        for (u, a), (_, b) in zip(traj.arcs, traj.arcs[1:]):
-            assert np.allclose(a[-1], b[0], atol=0)                  # arcs join at the switches
-        assert np.allclose([a[-1] for _, a in traj.arcs[:-1]], traj.switch_states, atol=1e-8)
-        assert 0 < traj.state_error < 1e-8
-        bb = traj.analytic
-        assert np.max(np.abs(np.array(bb.switch_states) - traj.switch_states)) <= traj.state_error + bb.error
-        assert abs(traj.T - bb.T) <= traj.T_error + bb.error + 1e-12
+    traj = d["trajectories"][index]
+    assert traj.certified
+    start, end = _ends(traj)
+    assert np.allclose(start, (0, 0), atol=0) and np.allclose(end, (math.pi, 0), atol=1e-8)
+    for (u, a), (_, b) in zip(traj.arcs, traj.arcs[1:]):
+        assert np.allclose(a[-1], b[0], atol=0)                  # arcs join at the switches
+    assert np.allclose([a[-1] for _, a in traj.arcs[:-1]], traj.switch_states, atol=1e-8)
+    assert 0 < traj.state_error < 1e-8
+    bb = traj.analytic
+    assert np.max(np.abs(np.array(bb.switch_states) - traj.switch_states)) <= traj.state_error + bb.error
+    assert abs(traj.T - bb.T) <= traj.T_error + bb.error
 
 
 def test_portrait_markers_against_the_captions(portraits):

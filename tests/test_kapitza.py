@@ -87,11 +87,25 @@ def test_upper_boundary_appears_at_b1_zero():
     assert lower < upper < math.inf
 
 
+def test_the_devices_floquet_threshold_against_the_series():
+    """The exact lower boundary of the papers' device (l = 0.20 m, A = 1.3 mm, g = 9.8) is
+    w = 2 sqrt(g / (-a_0(q) l)) at q = 2A/l = 0.013. Reference: the power series of a_0(q), DLMF
+    28.6.1 (NIST Digital Library of Mathematical Functions, eq. 28.6.1; McLachlan, Theory and
+    Application of Mathieu Functions, 1947, sec. 2.151), to q^8: the next term is below 1e-18 at this
+    q, far below the 1e-10 relative (1e-14 in a_0 over |a_0| = 8.4e-5) the module doc claims for w.
+    The series shares nothing with the code's Brent-on-the-half-period computation."""
+    q = 2 * kapitza.A / kapitza.L
+    a0 = -q**2 / 2 + 7 * q**4 / 128 - 29 * q**6 / 2304 + 68687 * q**8 / 18874368
+    exact = 2 * math.sqrt(kapitza.G / (-a0 * kapitza.L))          # 1523.01329650919 rad/s
+    assert kapitza.critical_frequencies(kapitza.A)[0] == pytest.approx(exact, rel=1e-10)
+    # Kapitza's A^2 w^2 = 2 g l keeps only -q^2/2 of a_0: it is low by 7 q^2 / 128 relative (the q^4 term)
+    assert exact / kapitza.kapitza_frequency(kapitza.A) - 1 == pytest.approx(7 * q**2 / 128, rel=1e-3)
+
+
 def test_examples_and_criteria():
-    """The papers' device: Tam's criterion 103.3 rad/s, Kapitza's and the exact one 1523.0 rad/s;
-    all four readings of Weinstein's Figures 4 and 5 are unstable, Tam's criterion calls three stable."""
+    """Tam's criterion for the device, sqrt(sqrt(2) g / A) = 103.3 rad/s (his (31)); all four
+    readings of Weinstein's Figures 4 and 5 are unstable, Tam's criterion calls three stable."""
     assert kapitza.tam_frequency(kapitza.A) == pytest.approx(math.sqrt(math.sqrt(2) * 9.8 / 0.0013))
-    assert kapitza.critical_frequencies(kapitza.A)[0] == pytest.approx(1523.0133, abs=1e-4)
     rows = kapitza.examples_table()
     assert [r["floquet"] for r in rows] == [-1, -1, -1, -1]
     assert [r["tam"] for r in rows] == [1, 1, -1, 1]

@@ -69,7 +69,8 @@ def test_two_switch_swing_up_matches_the_addendum(kappa):
     sol = ocp.solve(ocp.swing_up(kappa, branch=0))
     ref = finch.two_switch("swing-up", kappa)
     assert sol.problem.reading == "plane" and sol.arc_signs == (-1, 1, -1) and sol.branch == 0
-    assert abs(sol.T - ref.T) <= max(sol.T_error, 1e-13) + ref.error and sol.T == pytest.approx(ref.T, rel=REL)
+    # the search's error estimate and the formula's bound together cover the difference
+    assert abs(sol.T - ref.T) <= sol.T_error + ref.error and sol.T == pytest.approx(ref.T, rel=REL)
     assert sol.switch_times == pytest.approx(ref.switch_times, rel=REL)
     assert np.allclose(sol.switch_states, ref.switch_states, rtol=0, atol=1e-10)
     assert sol.certified and len(sol.certificate.reduced_hessian_eigenvalues) == 1
@@ -110,8 +111,8 @@ def test_a_start_whose_nearest_branch_fails_every_direct_start():
     search finds the one-switch transfer to +pi, and the failure is recorded."""
     sol = ocp.solve(ocp.swing_up(0.6, x0=(-2.0, 0.0)), ocp.MultipleShooting(N=50))
     assert sol.success and sol.optimal and sol.branch == 0 and sol.n_switches == 1
-    assert sol.direct is not None and sol.direct_class in (DirectClass.NOT_CONVERGED, DirectClass.OPTIMUM,
-                                                            DirectClass.LOCAL_OPTIMUM)
+    assert sol.direct_class == DirectClass.NOT_CONVERGED and not sol.direct.success
+    assert len(sol.direct.starts) == 3 and all(s.status != 0 for s in sol.direct.starts)
 
 
 def test_every_direct_start_failing_still_gives_the_optimum():

@@ -1,7 +1,7 @@
 """`ocp bench` and `ocp report`: the command-line side of the benchmark suite.
 
     ocp bench [SUITE] [--store PATH] [--jobs N | --scheduler ADDRESS] [--json]
-    ocp report STORE [--out DIR] [--budget SECONDS] [--accuracy ERROR] [--format png,pdf] [--json]
+    ocp report STORE [--out DIR] [--budget B1,B2] [--accuracy E1,E2] [--format png,pdf] [--json]
 
 `ocp bench` runs a suite (default "quick") into a SQLite store, resuming what is already there,
 with a progress bar on stderr and a summary table at the end; `ocp report` draws tables and
@@ -29,8 +29,10 @@ def add_commands(sub):
     p.add_argument("store", help="the SQLite results file written by ocp bench")
     p.add_argument("--out", help="folder for charts, summary.md, results.csv and results.json "
                                  "(default: STORE without .sqlite, plus -report)")
-    p.add_argument("--budget", default="1.0", help="time budget (s) of the accuracy profile, default 1")
-    p.add_argument("--accuracy", default="1e-4", help="|T - T_ref| target of the time profile, default 1e-4")
+    p.add_argument("--budget", default="2,10", help="time budgets of the accuracy profile, multiples (>= 1) of the "
+                                                    "fastest answer on each case, comma separated; default 2,10")
+    p.add_argument("--accuracy", default="1e-2,3e-3,1e-3",
+                   help="|T - T_ref| targets of the time profile, comma separated; default 1e-2,3e-3,1e-3")
     p.add_argument("--format", default="png", help="chart formats, comma separated (png, pdf, svg); default png")
     p.add_argument("--json", action="store_true", help="print the tables as one JSON object")
     p.set_defaults(run=run_report)
@@ -93,10 +95,9 @@ def run_report(args):
     bad = [f for f in formats if f not in ("png", "pdf", "svg")]
     if bad or not formats:
         raise InputError(f"format {args.format!r}: accepted png, pdf, svg (comma separated)")
-    budget = finite("budget", args.budget, "a number of seconds > 0")
-    accuracy = finite("accuracy", args.accuracy, "a number > 0")
-    if budget <= 0 or accuracy <= 0:
-        raise InputError("budget and accuracy must be > 0")
+    budget = [finite("budget", b, "numbers >= 1 (multiples of the fastest answer), comma separated", 1, 1e6)
+              for b in args.budget.split(",")]
+    accuracy = [finite("accuracy", a, "numbers > 0, comma separated", 1e-300, 1e300) for a in args.accuracy.split(",")]
     store = Path(args.store)
     out = Path(args.out) if args.out else store.with_name(store.stem + "-report")
     tables = report_module.report(store, out, budget, accuracy, formats)

@@ -1,22 +1,39 @@
 """`ocp report`: tables and charts drawn from a results store only (nothing is solved here).
 
     method table        per method family (a method without its N): runs, success rate, rate of
-                        reaching the best known optimum (all guesses; random guesses alone),
-                        median |T - T_ref| and median total time
+                        reaching the best known optimum (all guesses; random guesses alone; runs
+                        of a method that states no accuracy cannot be judged and are counted
+                        apart), median |T - T_ref| and median total time
     failure table       per family and outcome class (`ocp.bench.runner.OUTCOMES`), with the
                         cases and a status; every failing row is counted, none is left out
     work precision      per case (default guess): |T - T_ref| against the median total time, one
-                        curve per family as N varies; failed runs are not points (they are counted
-                        in the legend and listed in the failure table)
-    profiles            Dolan-More performance profiles across cases: the time to reach an
-                        accuracy (|T - T_ref| <= `accuracy`), and the accuracy reached within a
-                        time budget (`budget` seconds); rho(tau) = share of cases whose cost is
-                        within tau times the best family's
+                        curve per family as N varies, each point labelled with its N; answers of
+                        another extremal than the optimum (local optimum, wrong structure, beyond
+                        horizon) are open markers labelled with their class; failed runs are not
+                        points (they are counted in the legend and listed in the failure table)
+    profiles            Dolan-More performance profiles across cases (below)
+
+Performance profiles (Dolan and More 2002). For a cost c(p, s) of family s on case p, the ratio
+r(p, s) = c(p, s) / min over s' of c(p, s'), and the profile rho_s(tau) = the share of cases with
+r(p, s) <= tau: rho_s(1) is how often s is the best, rho_s(tau -> inf) how often it gets there at
+all. Both costs are relative to the best family on the case, so the machine's speed cancels:
+
+    time profile        c = the least total time of a run of s with the optimal structure and
+                        |T - T_ref| <= eps (any N), one panel per accuracy target eps (default
+                        1e-2, 3e-3, 1e-3: the range the direct methods reach at N <= 100; below it
+                        only the search remains, and the profile degenerates to it)
+    accuracy profile    c = the least |T - T_ref| of a run of s with the optimal structure within a
+                        time budget beta * t_min(p), t_min(p) the fastest such run of any family
+                        on the case (the time to reach an answer, relative to the fastest method),
+                        one panel per relative budget beta (default 2, 10); an error below the
+                        reference's own accuracy counts as that accuracy
 
 The best known optimum of a problem is its reference T (the complete search's optimum, or Finch's
 formula where one applies); a run reaches it when its outcome is "ok" or "inaccurate" (the optimal
 structure) and T - T_best <= its stated error (`T_error`: h^2/2 for a direct answer where measured,
-the search's estimate) plus the reference's.
+the search's estimate) plus the reference's. Colours: one per method family in every chart
+(`family_style`: fixed slots for the families of the shipped suites, in suite order, then the
+others by name).
 """
 
 import math
@@ -28,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core import plotting
+from ..core.numbers import order
 from .store import Store, to_csv, to_json
 
 GOOD = ("ok", "inaccurate")     # converged to the right structure (accurate or not)
@@ -46,16 +64,25 @@ def best_known(records):
 
 
 def reached(r, best):
-    """Whether run r reached the best known optimum of its problem (module doc)."""
+    """Whether run r reached the best known optimum of its problem (module doc): True, False, or
+    None where it cannot be judged (the optimal structure, but the method states no accuracy)."""
     T_best = best.get(r["problem"])
     if T_best is None or r["outcome"] not in GOOD:
         return False
-    return r["T"] - T_best <= (r["T_error"] or 0.0) + (r["T_ref_error"] or 0.0)
+    if r["T_error"] is None:
+        return None
+    return r["T"] - T_best <= r["T_error"] + (r["T_ref_error"] or 0.0)
 
 
 def _rate(flags):
+    """"k/n" of the flags that are True among those judged; those that cannot be judged (None) said apart."""
     flags = list(flags)
-    return f"{sum(flags)}/{len(flags)}" if flags else "-"
+    judged = [f for f in flags if f is not None]
+    if not flags:
+        return "-"
+    text = f"{sum(judged)}/{len(judged)}" if judged else "-"
+    unjudged = len(flags) - len(judged)
+    return text + (f" (+{unjudged} right structure, no stated accuracy)" if unjudged else "")
 
 
 def _median(values, fmt):
@@ -90,8 +117,17 @@ def failure_table(records):
     return [{"method": family, "outcome": outcome, "runs": len(runs),
              "N": " ".join(str(n) for n in sorted({r["N"] for r in runs})),
              "cases": "; ".join(dict.fromkeys(r["case_label"] for r in runs)),
-             "status (first)": runs[0]["status"][:160]}
+             "status (first)": _status(runs[0])[:160]}
             for (family, outcome), runs in groups.items()]
+
+
+def _status(r):
+    """How a run ended, in words: the solver's own message and the suite's (with the re-simulated
+    miss when the control misses the target)."""
+    parts = [r.get("solver_message"), r.get("message") or r["status"]]
+    if r["outcome"] == "misses target" and r.get("resim_miss") is not None:
+        parts.append(f"by {order(r['resim_miss'])}")
+    return ": ".join(p for p in parts if p)
 
 
 def outcome_counts(records):
@@ -119,84 +155,215 @@ def _slug(text):
     return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
 
 
+#: outcomes of a converged answer on another extremal than the optimum (`ocp.result.DirectClass`)
+ANOTHER = ("local optimum", "wrong structure", "beyond horizon")
+#: the time profile's accuracy targets and the accuracy profile's relative time budgets (module doc)
+ACCURACIES = (1e-2, 3e-3, 1e-3)
+BUDGETS = (2.0, 10.0)
+#: colours of the method families: the dark then the light shades of matplotlib's tab20
+PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22",
+           "#17becf", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2", "#c7c7c7",
+           "#dbdb8d", "#9edae5")
+MARKERS = ("o", "s", "^", "D", "v")
+SEARCH = "extremal search"
+
+
+def _shipped_families():
+    """The method families of the shipped suites (quick, then full), in suite order."""
+    from . import suite as suite_module
+
+    families = []
+    for name in ("quick", "full"):
+        families += [m.family for m in suite_module.load(name).methods]
+    return [f for f in dict.fromkeys(families) if f != SEARCH]
+
+
+def family_style(families):
+    """{family: (colour, marker)}, the same in every chart: the extremal search black; the families
+    of the shipped suites in fixed slots of PALETTE (in suite order), then the other families given,
+    by name; past the palette the colours repeat with the next marker."""
+    order = _shipped_families()
+    order += sorted(set(families) - set(order) - {SEARCH})
+    styles = {SEARCH: ("#000000", "*")}
+    for i, family in enumerate(order):
+        styles[family] = (PALETTE[i % len(PALETTE)], MARKERS[i // len(PALETTE) % len(MARKERS)])
+    return styles
+
+
+def _error(r):
+    """|T - T_ref| of a run, never below the reference's own accuracy (a smaller one is not resolved)."""
+    return max(abs(r["T_minus_ref"]), r.get("T_ref_error") or 0.0, 1e-16)
+
+
+#: open-marker shape of each class of an answer on another extremal
+ANOTHER_MARKERS = {"local optimum": "o", "wrong structure": "s", "beyond horizon": "^"}
+
+
+def work_precision_points(records):
+    """{case label: {family: {"curve": [point], "another": [point], "failed": n}}} of the runs with
+    the default guess: a point is (N, total time, |T - T*|, label); "curve" holds the answers with
+    the optimal structure (by N), "another" those on another extremal, labelled with N and their
+    class (local optimum, wrong structure, beyond horizon)."""
+    out = {}
+    for case, runs in _by([r for r in records if r["guess"] == "default"], "case_label").items():
+        out[case] = {}
+        for family, fr in _by(runs, "family").items():
+            good = sorted((r for r in fr if r["outcome"] in GOOD), key=lambda r: r["N"] or 0)
+            other = [r for r in fr if r["outcome"] in ANOTHER and r["T_minus_ref"] is not None]
+            point = lambda r: (r["N"], r["total_time_s"], _error(r), ("search" if r["N"] is None else f"N={r['N']}")
+                               + ("" if r["outcome"] == "ok" else f" ({r['outcome']})"))
+            out[case][family] = {"curve": [point(r) for r in good], "another": [(*point(r), r["outcome"]) for r in other],
+                                 "failed": len(fr) - len(good) - len(other)}
+    return out
+
+
 def work_precision(records, out_dir, formats):
-    """One chart per case with the default guess; returns the paths."""
+    """One chart per case with the default guess (`work_precision_points`); returns the paths."""
     import matplotlib.pyplot as plt
 
+    styles = family_style({r["family"] for r in records})
     paths = []
-    for case, runs in _by([r for r in records if r["guess"] == "default"], "case_label").items():
+    for case, families in work_precision_points(records).items():
         with plotting.style():
-            fig, ax = plt.subplots()
-            for family, fr in _by(runs, "family").items():
-                good = sorted((r for r in fr if r["outcome"] in GOOD), key=lambda r: r["N"])
-                failed = len(fr) - len(good)
-                note = f"  ({failed} failed)" if failed else ""
-                if good:
-                    ax.plot([r["total_time_s"] for r in good], [max(abs(r["T_minus_ref"]), 1e-16) for r in good],
-                            "o-", ms=3, label=family + note)
-                elif failed:
-                    ax.plot([], [], "x", label=family + f"  (all {failed} failed)")
+            fig, ax = plt.subplots(figsize=(9.0, 4.6))
+            classes = set()
+            for k, family in enumerate(sorted(families, key=list(styles).index)):
+                d = families[family]
+                colour, marker = styles[family]
+                failed = d["failed"]
+                label = family + (f"  ({failed} failed)" if failed else "")
+                if d["curve"]:
+                    ax.plot([p[1] for p in d["curve"]], [p[2] for p in d["curve"]], "-", marker=marker, ms=4,
+                            color=colour, label=label)
+                elif d["another"]:
+                    ax.plot([], [], "-", color=colour, label=label)
+                else:
+                    ax.plot([], [], "x", color=colour, label=family + f"  (all {failed} failed)")
+                for _, t, e, _, outcome in d["another"]:
+                    classes.add(outcome)
+                    ax.plot(t, e, ANOTHER_MARKERS[outcome], mfc="none", ms=6, color=colour)
+                for _, t, e, text, *_ in d["curve"] + d["another"]:
+                    ax.annotate(text, (t, e), textcoords="offset points", xytext=(4, 7 * (k % 3) - 7), fontsize=6,
+                                color=colour)
+            for name in sorted(classes):
+                ax.plot([], [], ANOTHER_MARKERS[name], mfc="none", color="0.3",
+                        label=f"open {ANOTHER_MARKERS[name]}: {name} (another extremal)")
             ax.set_xscale("log")
             ax.set_yscale("log")
-            ax.set_xlabel("total time per solve, median of repeats (s)")
-            ax.set_ylabel("|T - T_ref|")
+            ax.set_xlabel("total time per solve, median of repeats, cold (s)")
+            ax.set_ylabel("|T - T*|   (T*: the complete search's optimum)")
             ax.set_title(f"work precision: {case}")
-            ax.legend(loc="best")
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
             paths += plotting.save(fig, Path(out_dir) / f"work_precision_{_slug(case)}", formats)
     return paths
 
 
-def profile_costs(records, budget_s, accuracy):
-    """{(kind, family): {case: cost}} for kind "time" (time to reach `accuracy`) and "error" (the
-    smallest error within `budget_s`); inf where a family never got there."""
-    costs = defaultdict(dict)
+def profile_costs(records, accuracies=ACCURACIES, budgets=BUDGETS):
+    """The costs of the two profiles (module doc): {("time", eps): {family: {case: cost}}} and
+    {("error", beta): {family: {case: cost}}}, inf where a family does not get there."""
     cases = list(dict.fromkeys(r["case"] for r in records))
-    for family, runs in _by(records, "family").items():
-        for case in cases:
-            good = [r for r in runs if r["case"] == case and r["outcome"] in GOOD]
-            costs[("time", family)][case] = min((r["total_time_s"] for r in good if abs(r["T_minus_ref"]) <= accuracy),
-                                                default=math.inf)
-            costs[("error", family)][case] = min((max(abs(r["T_minus_ref"]), 1e-15) for r in good
-                                                  if r["total_time_s"] <= budget_s), default=math.inf)
+    families = list(dict.fromkeys(r["family"] for r in records))
+    good = defaultdict(list)
+    for r in records:
+        if r["outcome"] in GOOD and r["T_minus_ref"] is not None:
+            good[(r["family"], r["case"])].append(r)
+    fastest = {c: min((r["total_time_s"] for f in families for r in good[(f, c)]), default=math.inf) for c in cases}
+    costs = {}
+    for eps in accuracies:
+        costs[("time", eps)] = {f: {c: min((r["total_time_s"] for r in good[(f, c)] if _error(r) <= eps),
+                                           default=math.inf) for c in cases} for f in families}
+    for beta in budgets:
+        costs[("error", beta)] = {f: {c: min((_error(r) for r in good[(f, c)]
+                                              if r["total_time_s"] <= beta * fastest[c]), default=math.inf)
+                                      for c in cases} for f in families}
     return costs
 
 
-def performance_profile(costs, kind):
-    """{family: sorted ratios cost/best over cases} (Dolan and More 2002); inf where failed."""
-    families = [f for k, f in costs if k == kind]
+def performance_profile(costs):
+    """{family: sorted ratios cost / best cost over the cases} (Dolan and More 2002) of one cost
+    table {family: {case: cost}}; inf where the family failed. Cases no family gets through are
+    left out (they rank nobody)."""
+    families = list(costs)
     cases = list(next(iter(costs.values()))) if costs else []
     ratios = {f: [] for f in families}
     for case in cases:
-        best = min(costs[(kind, f)][case] for f in families)
+        best = min(costs[f][case] for f in families)
+        if not math.isfinite(best):
+            continue
         for f in families:
-            c = costs[(kind, f)][case]
+            c = costs[f][case]
             ratios[f].append(c / best if math.isfinite(c) else math.inf)
     return {f: sorted(r) for f, r in ratios.items()}
 
 
-def profile_chart(ratios, title, out_stem, formats):
+def profiles(records, accuracies=ACCURACIES, budgets=BUDGETS):
+    """{"time": [(eps, ratios)], "error": [(beta, ratios)], "styles": family_style}: the data of the
+    two profile charts, among the direct methods (the extremal search is the reference they are
+    measured against, not one of them: it is in the work-precision charts)."""
+    costs = profile_costs([r for r in records if r["family"] != SEARCH], accuracies, budgets)
+    return {"time": [(eps, performance_profile(costs[("time", eps)])) for eps in accuracies],
+            "error": [(beta, performance_profile(costs[("error", beta)])) for beta in budgets],
+            "styles": family_style({r["family"] for r in records})}
+
+
+def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
+    """One panel per (subtitle, ratios) of `panels`, side by side: rho(tau) per family, a step
+    function; the families that never get there are named under the panels."""
+    import textwrap
+
     import matplotlib.pyplot as plt
 
-    finite = [x for r in ratios.values() for x in r if math.isfinite(x)]
-    top = max(2.0, 1.5 * max(finite, default=2.0))
+    styles = styles or family_style({f for _, ratios in panels for f in ratios})
+    never = defaultdict(list)
     with plotting.style():
-        fig, ax = plt.subplots()
-        for family, r in ratios.items():
-            x = np.array([1.0] + [v for v in r if math.isfinite(v)] + [top])
-            y = np.array([0.0] + [(i + 1) / len(r) for i in range(len(x) - 2)] + [sum(map(math.isfinite, r)) / len(r)])
-            ax.step(x, y, where="post", label=family)
-        ax.set_xscale("log", base=2)
-        ax.set_ylim(-0.02, 1.02)
-        ax.set_xlabel("tau (cost / best cost on the case)")
-        ax.set_ylabel("share of cases within tau")
-        ax.set_title(title)
-        ax.legend(loc="lower right")
+        fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels) + 2.4, 4.4), sharey=True, squeeze=False)
+        for ax, (subtitle, ratios) in zip(axes[0], panels):
+            finite = [x for r in ratios.values() for x in r if math.isfinite(x)]
+            top = max(10.0, 2 * max(finite, default=1.0))
+            for family in sorted(ratios, key=list(styles).index):
+                r = ratios[family]
+                if not r or not any(map(math.isfinite, r)):
+                    never[family].append(subtitle)
+                    continue
+                taus = [1.0] + sorted({x for x in r if math.isfinite(x)}) + [top]
+                rho = [sum(x <= tau for x in r) / len(r) for tau in taus]
+                ax.step(taus, rho, where="post", color=styles[family][0], label=family)
+            ax.set_xscale("log")
+            ax.set_xlim(1.0, top)
+            ax.set_ylim(-0.02, 1.02)
+            n_cases = max((len(r) for r in ratios.values()), default=0)
+            ax.set_title(f"{subtitle}  ({n_cases} cases)", fontsize=9)
+            ax.set_xlabel(xlabel)
+        axes[0][0].set_ylabel("share of cases within tau of the best")
+        handles = {h.get_label(): h for ax in axes[0] for h in ax.get_lines() if not h.get_label().startswith("_")}
+        fig.legend(handles.values(), handles.keys(), loc="upper left", bbox_to_anchor=(1.0, 0.9), fontsize=7)
+        fig.suptitle(title)
+        if never:
+            everywhere = [f for f, where in never.items() if len(where) == len(panels)]
+            somewhere = [f"{f} ({', '.join(w)})" for f, w in never.items() if len(w) < len(panels)]
+            note = "; ".join(([f"never, in any panel: {', '.join(everywhere)}"] if everywhere else [])
+                             + ([f"not in: {'; '.join(somewhere)}"] if somewhere else []))
+            fig.text(0.01, -0.02, textwrap.fill(note, 160), fontsize=6, va="top")
         return plotting.save(fig, out_stem, formats)
 
 
-def report(store_path, out_dir=None, budget_s=1.0, accuracy=1e-4, formats=("png",)):
+def write_profiles(data, out_stem_time, out_stem_error, formats):
+    """The time and the accuracy profile of `profiles(...)` data; returns the paths."""
+    paths = profile_chart([(f"|T - T*| <= {eps:g}", r) for eps, r in data["time"]],
+                          "performance profile of the direct methods: time to reach an accuracy (Dolan and More 2002)",
+                          "tau (time / the best family's time on the case)", out_stem_time, formats, data["styles"])
+    paths += profile_chart([(f"budget {beta:g} x the fastest answer", r) for beta, r in data["error"]],
+                           "performance profile of the direct methods: accuracy within a time budget relative to "
+                           "the fastest answer",
+                           "tau (|T - T*| / the best family's on the case)", out_stem_error, formats, data["styles"])
+    return paths
+
+
+def report(store_path, out_dir=None, budgets=BUDGETS, accuracies=ACCURACIES, formats=("png",)):
     """The report of the store at `store_path`: a dict of tables (and, with `out_dir`, the charts,
-    summary.md, results.csv and results.json written there)."""
+    summary.md, results.csv and results.json written there). `budgets`: the accuracy profile's time
+    budgets, multiples of the fastest answer on each case; `accuracies`: the time profile's targets
+    of |T - T_ref| (each a number or a sequence)."""
     store = Store(store_path, create=False)
     try:
         records, sessions = store.results(), store.sessions()
@@ -216,12 +383,11 @@ def report(store_path, out_dir=None, budget_s=1.0, accuracy=1e-4, formats=("png"
         return tables
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    costs = profile_costs(records, budget_s, accuracy)
+    budgets = tuple(budgets) if isinstance(budgets, (list, tuple)) else (budgets,)
+    accuracies = tuple(accuracies) if isinstance(accuracies, (list, tuple)) else (accuracies,)
     charts = work_precision(records, out, formats)
-    charts += profile_chart(performance_profile(costs, "time"),
-                            f"time to reach |T - T_ref| <= {accuracy:g}", out / "profile_time", formats)
-    charts += profile_chart(performance_profile(costs, "error"),
-                            f"accuracy within {budget_s:g} s", out / "profile_accuracy", formats)
+    charts += write_profiles(profiles(records, accuracies, budgets), out / "profile_time", out / "profile_accuracy",
+                             formats)
     tables["files"] = [str(p) for p in charts + [to_csv(records, out / "results.csv"),
                                                  to_json(records, out / "results.json")]]
     (out / "summary.md").write_text(summary_markdown(tables))

@@ -24,11 +24,11 @@ transfers to -pi (or from -pi) are mirror images.
 
 import math
 from dataclasses import dataclass, replace
-from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
 
+from ..core.cache import cached
 from ..core.problem import KINDS
 from ..core.roots import brent
 
@@ -343,7 +343,7 @@ def _flat(bb):
     return (*bb.switch_times, *(v for state in bb.switch_states for v in state), bb.T)
 
 
-@lru_cache(maxsize=None)
+@cached
 def two_switch_range():
     """(kappa_lo, kappa_hi) = (0.4222730599..., 0.8153495018...), the kappa for which three_arc_time has a
     local minimum. Below kappa_lo the feasible interval of rho is empty: the middle arc started at

@@ -1,12 +1,11 @@
 """The suite's own figures, from a benchmark results store (`ocp bench`): the work-precision
-charts (one a case) and the Dolan-More performance profiles, drawn by `ocp.bench.report`."""
+charts (one a case) and the Dolan-More performance profiles, drawn by `ocp.bench.report` (the same
+definitions, colours and defaults as `ocp report`)."""
 
 from pathlib import Path
 
 from ..bench import report
 from ..bench.store import Store
-
-BUDGET_S, ACCURACY = 1.0, 1e-4  #: as `ocp report`'s defaults
 
 
 def records(store):
@@ -18,12 +17,10 @@ def records(store):
         db.close()
 
 
-def profiles(store, budget_s=BUDGET_S, accuracy=ACCURACY):
-    """{"time": ratios, "error": ratios}: `ocp.bench.report.performance_profile` of the time to
-    reach |T - T_ref| <= accuracy and of the error reached within budget_s seconds."""
-    costs = report.profile_costs(records(store), budget_s, accuracy)
-    return {"time": report.performance_profile(costs, "time"), "error": report.performance_profile(costs, "error"),
-            "budget_s": budget_s, "accuracy": accuracy}
+def profiles(store, accuracies=report.ACCURACIES, budgets=report.BUDGETS):
+    """`ocp.bench.report.profiles` of the store's records: the time to reach each accuracy target,
+    and the error reached within each time budget relative to the fastest answer on the case."""
+    return report.profiles(records(store), accuracies, budgets)
 
 
 def write_work_precision(data, stem, formats):
@@ -33,7 +30,5 @@ def write_work_precision(data, stem, formats):
 
 def write_profiles(data, stem, formats):
     stem = Path(stem)
-    return (report.profile_chart(data["time"], f"time to reach |T - T_ref| <= {data['accuracy']:g}",
-                                 stem.with_name(stem.name + "_time"), formats)
-            + report.profile_chart(data["error"], f"accuracy within {data['budget_s']:g} s",
-                                   stem.with_name(stem.name + "_accuracy"), formats))
+    return report.write_profiles(data, stem.with_name(stem.name + "_time"), stem.with_name(stem.name + "_accuracy"),
+                                 formats)

@@ -6,10 +6,13 @@ search's verdict is "globally optimal", of unknown accuracy otherwise); the misp
 an independent DOP853 shooting."""
 
 import math
+from typing import NamedTuple
 
+import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
+from ..core.numbers import digits, order, plus_minus
 from ..core.problem import damping, swing_up
 from ..exact.finch import (EPS, F, stationarity_term, arc, free_swing, gibbs_constant, one_switch,
                            one_switch_bound, two_switch)
@@ -17,27 +20,45 @@ from ..solving import solve
 from .verify import Reproduction
 
 
-def shooting_time(kappa, t1_bounds):
+class Shot(NamedTuple):
+    """The least time of the shooting (`shooting_time`): T, t1 and the landing state x, each with
+    its error estimate."""
+
+    T: float
+    T_error: float
+    t1: float
+    t1_error: float
+    x: tuple
+    x_error: float
+
+
+def shooting_time(kappa, t1_bounds, xatol=1e-6, rtol=1e-13):
     """Independent of every quadrature here: the least time of u = -1, +1, -1 from (0, 0) to
-    (pi, 0), by DOP853 (rtol = atol = 1e-13) with event detection: u = -1 for t1, u = +1 until
+    (pi, 0), by DOP853 (rtol = atol = `rtol`) with event detection: u = -1 for t1, u = +1 until
     omega^2 = 2[cos(theta) + 1 + kappa*(pi - theta)] (the arc into (pi, 0)), u = -1 until omega = 0;
-    T minimised over t1 in t1_bounds (bounded Brent, 1e-6 in t1: T is stationary, so ~1e-11 in T).
-    Returns (T, t1, final state)."""
-    def flow(u, t0, x0, event):
+    T minimised over t1 in t1_bounds by bounded Brent to `xatol` in t1.
+
+    Error estimates (computed, not assumed): t1 to `xatol` (Brent's stopping bracket); T: the change
+    of T across t1 +- xatol (T is stationary, so this is second order) plus the change of T and of
+    the landing state when the integration runs at 100 rtol instead (the second tolerance)."""
+    def flow(u, t0, x0, event, tol):
         event.terminal = True
         sol = solve_ivp(lambda t, x: (x[1], kappa * u - math.sin(x[0])), (t0, t0 + 100.0), x0,
-                        method="DOP853", rtol=1e-13, atol=1e-13, events=event)
+                        method="DOP853", rtol=tol, atol=tol, events=event)
         return sol.t_events[0][0], sol.y_events[0][0]
 
-    def land(t1):
-        t, x = flow(-1, 0.0, (0.0, 0.0), lambda t, x: t - t1)
+    def land(t1, tol=rtol):
+        t, x = flow(-1, 0.0, (0.0, 0.0), lambda t, x: t - t1, tol)
         meet = lambda t, x: x[1] ** 2 - 2 * (math.cos(x[0]) + 1 + kappa * (math.pi - x[0])) if x[1] > 0 else -1.0
-        t, x = flow(+1, t, x, meet)
-        return flow(-1, t, x, lambda t, x: x[1])
+        t, x = flow(+1, t, x, meet, tol)
+        return flow(-1, t, x, lambda t, x: x[1], tol)
 
-    best = minimize_scalar(lambda t1: land(t1)[0], bounds=t1_bounds, method="bounded", options={"xatol": 1e-6})
+    best = minimize_scalar(lambda t1: land(t1)[0], bounds=t1_bounds, method="bounded", options={"xatol": xatol})
     T, x = land(best.x)
-    return T, best.x, x
+    T_loose, x_loose = land(best.x, 100 * rtol)
+    flat = max(abs(land(best.x + d)[0] - T) for d in (-xatol, xatol))
+    return Shot(float(T), float(flat + abs(T_loose - T)), float(best.x), xatol, tuple(map(float, x)),
+                float(np.max(np.abs(x_loose - x))))
 
 
 def reproduce():
@@ -57,8 +78,14 @@ def reproduce():
     put("omega_plus", up.omega, 8 * EPS, "energy integral: sqrt(pi - 2) (no ODE solver needed)")
 
     k1 = one_switch_bound()
-    put("one_switch_kappa_min", k1, 1e-15, "brentq root of 1 - pi k + sqrt(1 - k^2) + k arcsin k")
-    put("one_switch_phi_min", math.pi - math.asin(k1), 2e-15, "pi - arcsin(kappa_1)")
+    g = 1 - math.pi * k1 + math.sqrt(1 - k1 * k1) + k1 * math.asin(k1)
+    # the root's error: the residual (and its rounding, on terms of size 3 + pi k) over the slope
+    # g'(k) = arcsin(k) - pi, plus the rounding of k itself
+    e_k1 = (abs(g) + 8 * EPS * (3 + math.pi * k1)) / abs(math.asin(k1) - math.pi) + 2 * EPS * k1
+    put("one_switch_kappa_min", k1, e_k1, "brentq root of g = 1 - pi k + sqrt(1 - k^2) + k arcsin k; accuracy "
+        "|g|/|g'| at the root plus rounding")
+    put("one_switch_phi_min", math.pi - math.asin(k1), e_k1 / math.sqrt(1 - k1 * k1) + 4 * EPS * math.pi,
+        "pi - arcsin(kappa_1), kappa_1's error carried through arcsin")
     swing_up, damping = one_switch("swing-up", 1.0), one_switch("damping", 1.0)
     how = "one_switch('{}', {}): switch at (pi/2 + 1/kappa, +-sqrt(kappa pi - 2 sin(1/kappa))), arc quadratures"
     put("figure1_switch_theta", swing_up.switch_states[0][0], 4 * EPS, "pi/2 + 1/kappa at kappa = 1")
@@ -74,13 +101,16 @@ def reproduce():
     rho, (x1, w1), (x2, w2) = half.rho, *half.switch_states
     # the printed numerator with the real F: 1/F(x) + int_rho^x (sin u - sin rho)/F^3 du at x = xi, eta
     flipped = [stationarity_term(rho, x, 0.5)[0] + 2 / F(x, rho, 0.5) for x in (x1, x2)]
+    e = half.error
+    e_flipped = sum(stationarity_term(rho, x, 0.5)[1] for x in (x1, x2)) + sum(
+        (2 / F(x, rho, 0.5) ** 3) * (abs(math.sin(x)) + 0.5 + 1) * e + 8 * EPS / F(x, rho, 0.5) for x in (x1, x2))
     erratum = (f"the printed F(u, rho) = sqrt(-2 kappa (u - rho) - 2[cos u - cos rho]) is imaginary on the middle arc: "
-               f"at kappa = 1/2, rho = {rho:.7f} its radicand is {-w1 ** 2:.6f} = -omega1^2 at u = xi and "
-               f"{-w2 ** 2:.6f} = -omega2^2 at u = eta. With the real F = |omega| = sqrt(+2 kappa (u - rho) + "
-               f"2[cos u - cos rho]) the numerator must be sin u - sin rho (stationarity, checked against finite "
-               f"differences of the three-arc time); with the printed numerator the left side is "
-               f"{sum(flipped):.6f}, not 0, at this rho. Read with complex F = i|omega| the printed equation "
-               f"is -i times the right one, so the printed rho values stand")
+               f"at kappa = 1/2, rho = {digits(rho, e)} its radicand is {digits(-w1 ** 2, 2 * abs(w1) * e)} = "
+               f"-omega1^2 at u = xi and {digits(-w2 ** 2, 2 * abs(w2) * e)} = -omega2^2 at u = eta. With the real "
+               f"F = |omega| = sqrt(+2 kappa (u - rho) + 2[cos u - cos rho]) the numerator must be sin u - sin rho "
+               f"(stationarity, checked against finite differences of the three-arc time); with the printed "
+               f"numerator the left side is {plus_minus(sum(flipped), e_flipped)}, not 0, at this rho. Read with "
+               f"complex F = i|omega| the printed equation is -i times the right one, so the printed rho values stand")
     how2 = "two_switch('swing-up', {}): root of dT/drho (corrected equation), arc quadratures"
     put("two_switch_half_rho", rho, half.error, how2.format(0.5), erratum=erratum)
     put("two_switch_3_4_rho", three_quarters.rho, three_quarters.error, how2.format(0.75))
@@ -90,16 +120,25 @@ def reproduce():
     for i, name in ((0, "switch1"), (1, "switch2")):
         put(f"figure2_{name}_theta", half.switch_states[i][0], half.error, how2.format(0.5))
         put(f"figure2_{name}_omega", half.switch_states[i][1], half.error, how2.format(0.5) + ": -+F(xi or eta, rho)")
-    T, t1, x = shooting_time(0.75, (0.9, 1.1))
+    shot = shooting_time(0.75, (0.9, 1.1))
+    miss = math.hypot(shot.x[0] - math.pi, shot.x[1])
     put("t_inf_two_switch_kappa_3_4", three_quarters.T, three_quarters.error, how2.format(0.75),
         f"independently, DOP853 shooting (u = -1 for t1, u = +1 to the arc into (pi, 0), u = -1 to rest) "
-        f"minimised over t1 gives T = {T:.11f} at t1 = {t1:.7f}, landing at ({x[0]:.12f}, {x[1]:.1e}); "
-        f"no two-switch transfer arrives by 5.8397 (likely a misprint of 5.8399)")
-    gain = 100 * (one.T - three_quarters.T) / three_quarters.T
-    put("two_switch_gain_kappa_3_4", gain, 1e-11, "100 (t_inf,1 - t_inf,2)/t_inf,2 from the two transfers, in %")
+        f"minimised over t1 gives T = {digits(shot.T, shot.T_error)} at t1 = {plus_minus(shot.t1, shot.t1_error)}, "
+        f"landing {order(miss)} from (pi, 0) (integration error {order(shot.x_error)}); no two-switch transfer "
+        f"arrives by 5.8397 (likely a misprint of 5.8399)")
+    T1, T2 = one.T, three_quarters.T
+    gain = 100 * (T1 - T2) / T2
+    put("two_switch_gain_kappa_3_4", gain, 100 * (one.error + three_quarters.error) / T2
+        + abs(gain) * three_quarters.error / T2 + 4 * EPS * abs(gain),
+        "100 (t_inf,1 - t_inf,2)/t_inf,2 from the two transfers, in %; accuracy from their error bounds")
     G = gibbs_constant()
-    put("gibbs_G", G, 4 * EPS * G, "Si(pi), scipy.special.sici")
-    put("gibbs_G_half", G / 2, 2 * EPS * G, "Si(pi)/2")
+    # independently: the alternating series of the paper, summed exactly rounded (math.fsum); its
+    # terms fall below EPS * G after j = 12, and the tail of an alternating series is below its first term
+    series = math.fsum((-1) ** j * math.pi ** (2 * j + 1) / ((2 * j + 1) * math.factorial(2 * j + 1)) for j in range(30))
+    e_G = abs(G - series) + 4 * EPS * G
+    put("gibbs_G", G, e_G, "Si(pi), scipy.special.sici; accuracy: its distance from the series, plus rounding")
+    put("gibbs_G_half", G / 2, e_G / 2, "Si(pi)/2")
     return out
 
 
@@ -125,7 +164,7 @@ def solved_claims():
         gain = 100 * (T1 - T2) / T2
         out["reshmin_damping_gain"] = Reproduction(
             gain, 100 * (e1 + e2) / T2 + abs(gain) * e2 / T2,
-            f"100 (T1 - T2)/T2 with T2 = {T2!r} +- {e2:.0e} (the optimum, two switches) and T1 = {T1!r} +- {e1:.0e} "
+            f"100 (T1 - T2)/T2 with T2 = {plus_minus(T2, e2)} (the optimum, two switches) and T1 = {plus_minus(T1, e1)} "
             f"(the fastest one-switch extremal, {one.signs}), both from the complete search")
     return out
 

@@ -1,0 +1,143 @@
+"""The error of the direct method against the exact transfers: the evidence behind the bound
+|T - T*| <= h^2/2 that `ocp.direct.solve` states (`T_bound`, up to `BOUND_N_MAX`).
+
+    python benchmarks/direct_error.py [--N 25 50 100 200 400 800 1600 3200] [--jobs 2] [--markdown]
+
+Method: multiple shooting, rk4 with M = 4 steps per interval, IPOPT with ocp's quiet defaults
+(tol 1e-8), the default family of three initial guesses (`ocp.direct.solve`, exactly what
+`ocp solve --no-refine` runs). Cases: the four transfers of Finch (2015) from the standard starts,
+swing-up kappa = 1 (one switch), 1/2 and 3/4 (two switches) and damping kappa = 1 (one switch).
+References: `ocp.exact.finch.one_switch` / `two_switch` (quadrature, error below 1e-13, checked
+against 30-digit mpmath and DOP853 shooting in tests/test_analytic.py), so every error printed
+here is the direct method's own to far below its last digit.
+
+Per case and N (h = T/N): |dT| = |T - T*|, |dT|/h^2 and |dT| over the stated bound h^2/2 (above 1:
+the bound fails), and the largest switch-time error over h and over h^2 (a one-switch time is
+fixed by the end constraint, O(h^2); two-switch times move along a direction in which T is
+stationary, O(h)). The structure read off the control must be the formula's (else the row says
+so). Errors are printed to two significant digits: they are exact to far more (the reference's
+error is below 1e-13), two are what a ratio needs. Nothing is asserted here; tests/test_direct.py
+uses the bound at N = 100, ocp/direct/solve.py states it up to BOUND_N_MAX.
+"""
+
+import argparse
+import concurrent.futures as cf
+import math
+import platform
+import sys
+import time
+
+import ocp
+from ocp.direct import solve as direct_solve
+from ocp.direct.solve import BOUND_N_MAX
+from ocp.exact import finch
+
+#: name -> (problem, reference transfer)
+CASES = {
+    "swing-up kappa=1": (lambda: ocp.swing_up(1.0), lambda: finch.one_switch("swing-up", 1.0)),
+    "swing-up kappa=1/2": (lambda: ocp.swing_up(0.5), lambda: finch.two_switch("swing-up", 0.5)),
+    "swing-up kappa=3/4": (lambda: ocp.swing_up(0.75), lambda: finch.two_switch("swing-up", 0.75)),
+    "damping kappa=1": (lambda: ocp.damping(1.0), lambda: finch.one_switch("damping", 1.0)),
+}
+NS = (25, 50, 100, 200, 400, 800, 1600, 3200)
+
+
+def signs(bb):
+    return tuple(bb.first_u * (-1) ** i for i in range(bb.n_switches + 1))
+
+
+def measure(case, N):
+    """One row: the direct solve of `case` at N against its reference."""
+    problem, reference = CASES[case]
+    ref = reference()
+    start = time.perf_counter()
+    sol = direct_solve(problem(), ocp.MultipleShooting(N=N))
+    wall = time.perf_counter() - start
+    s = sol.structure
+    h = sol.T / N
+    row = {"case": case, "N": N, "status": sol.status.name.lower(), "h": h, "T": sol.T, "T_ref": ref.T,
+           "ref_error": ref.error, "time_s": wall, "stated_bound": sol.T_bound, "n_switches": ref.n_switches}
+    # a mirror image (theta -> -theta, u -> -u, target -pi) has the same times
+    row["structure"] = "formula's" if s.arc_signs in (signs(ref), tuple(-u for u in signs(ref))) else \
+        f"other: u = {s.arc_signs}"
+    dT = abs(sol.T - ref.T)
+    row.update(dT=dT, dT_h2=dT / h**2, over_bound=dT / (h**2 / 2))
+    if row["structure"] == "formula's":
+        dt = max(abs(a - b) for a, b in zip(s.switch_times, ref.switch_times))
+        row.update(dt=dt, dt_h=dt / h, dt_h2=dt / h**2)
+    else:
+        row.update(dt=math.nan, dt_h=math.nan, dt_h2=math.nan)
+    return row
+
+
+def _g(x):
+    """Two significant digits (see the module doc), or '-' for a missing value."""
+    return "-" if x is None or not math.isfinite(x) else f"{x:.2g}"
+
+
+COLUMNS = ("case", "N", "|dT|", "|dT|/h^2", "|dT|/(h^2/2)", "max |dt|/h", "max |dt|/h^2", "structure",
+           "bound stated", "solve s")
+
+
+def cells(row):
+    return (row["case"], str(row["N"]), _g(row["dT"]), _g(row["dT_h2"]), _g(row["over_bound"]), _g(row["dt_h"]),
+            _g(row["dt_h2"]), row["structure"] if row["status"] == "verified" else row["status"],
+            "h^2/2" if row["stated_bound"] else "none", f"{row['time_s']:.1f}")
+
+
+def summary(rows):
+    """The largest ratios over the measured range N <= BOUND_N_MAX and beyond it (lines of text)."""
+    lines = []
+    ok = [r for r in rows if r["status"] == "verified" and r["structure"] == "formula's"]
+    for label, part in (("N <= %d" % BOUND_N_MAX, [r for r in ok if r["N"] <= BOUND_N_MAX]),
+                        ("N > %d" % BOUND_N_MAX, [r for r in ok if r["N"] > BOUND_N_MAX])):
+        if not part:
+            continue
+        worst = max(part, key=lambda r: r["over_bound"])
+        one = [r["dt_h2"] for r in part if r["n_switches"] == 1]
+        two = [r["dt_h"] for r in part if r["n_switches"] == 2]
+        lines.append(f"{label}: largest |dT|/h^2 = {_g(max(r['dT_h2'] for r in part))} "
+                     f"(|dT| / (h^2/2) = {_g(worst['over_bound'])}, {worst['case']}, N = {worst['N']}); "
+                     f"one switch: largest |dt|/h^2 = {_g(max(one, default=math.nan))}; "
+                     f"two switches: largest |dt|/h = {_g(max(two, default=math.nan))}")
+    bad = [r for r in rows if r not in ok]
+    if bad:
+        lines.append("rows without the formula's structure or not verified: "
+                     + "; ".join(f"{r['case']} N = {r['N']}: {r['status']}, {r['structure']}" for r in bad))
+    return lines
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--N", type=int, nargs="+", default=list(NS))
+    parser.add_argument("--case", action="append", choices=list(CASES), help="only this case (repeatable)")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes (the wall times are then shared)")
+    parser.add_argument("--markdown", action="store_true", help="a Markdown table (for benchmarks/README.md)")
+    args = parser.parse_args(argv)
+    pairs = [(case, N) for case in args.case or CASES for N in args.N]
+    with cf.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else cf.ThreadPoolExecutor(1) as pool:
+        futures = [pool.submit(measure, case, N) for case, N in pairs]
+        for (case, N), future in zip(pairs, futures):
+            future.result()
+            print(f"direct_error: {case} N = {N} done", file=sys.stderr, flush=True)
+    rows = [f.result() for f in futures]
+    if args.markdown:
+        escape = lambda texts: " | ".join(t.replace("|", "\\|") for t in texts)
+        print("| " + escape(COLUMNS) + " |")
+        print("|" + "|".join(" --- " for _ in COLUMNS) + "|")
+        for r in rows:
+            print("| " + escape(cells(r)) + " |")
+    else:
+        widths = [max(len(c), *(len(cells(r)[i]) for r in rows)) for i, c in enumerate(COLUMNS)]
+        print("  ".join(c.ljust(w) for c, w in zip(COLUMNS, widths)))
+        for r in rows:
+            print("  ".join(c.ljust(w) for c, w in zip(cells(r), widths)))
+    print()
+    for line in summary(rows):
+        print(line)
+    print(f"\n(Python {platform.python_version()}, {platform.machine()}, {args.jobs} worker process(es); `solve s`: the "
+          f"wall time of the direct solve with its three starts, its NLP built in it)")
+
+
+if __name__ == "__main__":
+    main()

@@ -91,3 +91,15 @@ def test_a_direct_stage_is_classified_against_the_search():
     out = json.loads(proc.stdout)
     assert proc.returncode == 0 and out["branch"] == -1 and out["optimal"] is True
     assert out["direct"]["classified"] == "local_optimum" and out["direct"]["branch"] == 0
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--option", "ipopt.max_iter=-1"], "Invalid options were detected by Ipopt"),
+    (["--solver", "fatrop", "--transcription", "direct-collocation"], "Fatrop: specified structure"),
+])
+def test_a_rejected_nlp_build_prints_one_line_only(args, says, capfd):
+    """Issue 11: IPOPT printed its help before the one-line error, fatrop about 200 lines of warnings:
+    the solver's own output during the build is discarded (captured here at the file descriptors)."""
+    assert main(["solve", "swing-up", "--kappa", "1", "--direct", "--N", "20", *args]) == 2
+    out, err = capfd.readouterr()
+    assert out == "" and err.count("\n") == 1 and err.startswith("error:") and says in err

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core import plotting
+from ..core.files import folder, write_text
 from .store import Store, to_csv, to_json
 
 GOOD = ("ok", "inaccurate")     # converged to the right structure (accurate or not)
@@ -196,8 +197,9 @@ def profile_chart(ratios, title, out_stem, formats):
 
 def report(store_path, out_dir=None, budget_s=1.0, accuracy=1e-4, formats=("png",)):
     """The report of the store at `store_path`: a dict of tables (and, with `out_dir`, the charts,
-    summary.md, results.csv and results.json written there)."""
-    store = Store(store_path, create=False)
+    summary.md, results.csv and results.json written there). The store is opened read-only and every
+    record checked before anything is written; each file is written whole (`ocp.core.files`)."""
+    store = Store(store_path, write=False)
     try:
         records, sessions = store.results(), store.sessions()
     finally:
@@ -214,8 +216,7 @@ def report(store_path, out_dir=None, budget_s=1.0, accuracy=1e-4, formats=("png"
     }
     if out_dir is None:
         return tables
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    out = folder(out_dir)
     costs = profile_costs(records, budget_s, accuracy)
     charts = work_precision(records, out, formats)
     charts += profile_chart(performance_profile(costs, "time"),
@@ -224,7 +225,7 @@ def report(store_path, out_dir=None, budget_s=1.0, accuracy=1e-4, formats=("png"
                             f"accuracy within {budget_s:g} s", out / "profile_accuracy", formats)
     tables["files"] = [str(p) for p in charts + [to_csv(records, out / "results.csv"),
                                                  to_json(records, out / "results.json")]]
-    (out / "summary.md").write_text(summary_markdown(tables))
+    write_text(out / "summary.md", summary_markdown(tables))
     tables["files"].append(str(out / "summary.md"))
     return tables
 

@@ -101,12 +101,15 @@ def _run_solve(args):
     from .core.errors import finite, integer
     from .core.output import print_json, solver_output
     from .core.problem import make
+    from .direct.solve import MISS_TOL_RANGE
 
     branch = 0 if args.plane else (None if args.branch is None else integer(
         "branch", args.branch, "an integer k (the target branch)", -10**6, 10**6))
     problem = make(args.problem, args.kappa, args.x0, branch)
     method = _method(args)
-    miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, "a number in (0, 1)", 1e-15, 1)
+    low, high = MISS_TOL_RANGE
+    miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, f"a number from {low:g} to {high:g}",
+                                                         low, high)
     from . import solving as solve_module
     with solver_output("stderr"):
         result = solve_module.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,
@@ -277,6 +280,11 @@ def _run_bifurcation(args):
     return 0
 
 
+def _one_line(err):
+    """An error's message on one line (a value quoted in it may hold line breaks)."""
+    return str(err).replace("\r", "\\r").replace("\n", "\\n")
+
+
 def main(argv=None):
     parser = _Parser(prog="ocp", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -291,10 +299,10 @@ def main(argv=None):
         args = parser.parse_args(argv)
         return args.run(args)
     except InputError as err:
-        print(f"error: {err}", file=sys.stderr)
+        print(f"error: {_one_line(err)}", file=sys.stderr)
         return 2
     except Fault as err:
-        print(f"failed: {err}", file=sys.stderr)
+        print(f"failed: {_one_line(err)}", file=sys.stderr)
         return 1
     except BrokenPipeError:          # the reader (e.g. `| head`) stopped reading: not an error of ours
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

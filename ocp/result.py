@@ -9,7 +9,7 @@ import enum
 import math
 from dataclasses import dataclass
 
-from .core.numbers import digits, order, plus_minus
+from .core.numbers import digits, order, plus_minus, printed_error
 from .core.problem import Problem, angle_text
 from .direct.structure import pattern
 
@@ -254,7 +254,7 @@ class Solution:
             return "\n".join(lines)
         lines.append(f"reached ({angle_text(self.target[0])}, 0), branch k = {self.branch}")
         if self.answer is not None:
-            lines.append(f"T = {digits(self.T, self.T_error)}   (error estimate {order(self.T_error)}; the control "
+            lines.append(f"T = {digits(self.T, self.T_error)}   (error estimate {order(printed_error(self.T, self.T_error))}, rounding included; the control "
                          f"re-simulated independently misses the target by {order(self.resim_miss)})")
         else:
             bound = self.direct.T_bound

@@ -1,17 +1,22 @@
 """`ocp bench` and `ocp report`: the command-line side of the benchmark suite.
 
-    ocp bench [SUITE] [--store PATH] [--jobs N | --scheduler ADDRESS] [--json]
+    ocp bench [SUITE] [--store PATH] [--jobs N | --scheduler ADDRESS] [--yes] [--json]
     ocp report STORE [--out DIR] [--budget B1,B2] [--accuracy E1,E2] [--format png,pdf] [--json]
 
 `ocp bench` runs a suite (default "quick") into a SQLite store, resuming what is already there,
-with a progress bar on stderr and a summary table at the end; `ocp report` draws tables and
-charts from a store alone.
+with a progress bar on stderr and a summary table at the end (a suite of more than
+`suite.CONFIRM_RUNS` solves needs --yes); `ocp report` draws tables and charts from a store alone,
+opened read-only.
 """
 
 import time
 from pathlib import Path
 
-from ..core.errors import InputError, finite
+from ..core.errors import Fault, InputError, finite, integer
+
+MAX_JOBS = 256
+#: `ocp bench` asks for --yes above this many solves (pairs x repeats)
+CONFIRM_RUNS = 5_000
 
 
 def add_commands(sub):
@@ -23,6 +28,8 @@ def add_commands(sub):
     p.add_argument("--jobs", default="1", help="local worker processes, default 1")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the Dask distributed scheduler at ADDRESS (e.g. tcp://host:8786) instead")
+    p.add_argument("--yes", action="store_true",
+                   help=f"run a suite of more than {CONFIRM_RUNS} solves (pairs x repeats)")
     p.add_argument("--json", action="store_true", help="print one JSON object (summary, environment)")
     p.set_defaults(run=run_bench)
     p = sub.add_parser("report", help="tables and charts from a benchmark results store")
@@ -45,24 +52,23 @@ def run_bench(args):
     from ..core.output import print_json, solver_output
 
     suite = suite_module.load(args.suite)
-    try:
-        jobs = int(args.jobs)
-    except ValueError:
-        jobs = 0
-    if jobs < 1:
-        raise InputError(f"jobs = {args.jobs!r} must be an integer >= 1 (local worker processes)")
-    store = Store(args.store or f"ocp-bench-{suite.name}.sqlite")
+    jobs = integer("jobs", args.jobs, f"an integer from 1 to {MAX_JOBS} (local worker processes)", 1, MAX_JOBS)
+    solves = len(suite.pairs()) * suite.repeats
+    if solves > CONFIRM_RUNS and not args.yes:
+        raise InputError(f"suite {suite.name}: {len(suite.pairs())} pairs x {suite.repeats} repeats = {solves} "
+                         f"solves, more than {CONFIRM_RUNS}; add --yes to run it (it can be "
+                         f"interrupted and resumed)")
+    store = Store(args.store or f"ocp-bench-{suite.name}.sqlite")     # suite names stay in this folder
     start = time.perf_counter()
     env = environment()
     try:
         with runner.executor(jobs, args.scheduler) as (pool, workers, name), solver_output("stderr"):
             result = runner.run(suite, store, pool, workers, name, env)
     except KeyboardInterrupt:
-        rows = len(store.done())
-        store.close()
-        print(f"interrupted: {rows} finished rows are kept in {store.path}; "
-              f"the same command resumes where it stopped")
+        print(f"interrupted: {_kept(store)}; the same command resumes where it stopped")
         return 130
+    except Fault as err:
+        raise Fault(f"{err}; {_kept(store)}; the same command resumes where it stopped") from None
     keys = {(c.key, m.key) for c, m in suite.pairs()}
     records = [r for r in store.results() if (r["case"], r["method"]) in keys]
     store.close()
@@ -70,6 +76,7 @@ def run_bench(args):
     summary = {
         "suite": suite.name, "store": str(store.path), "session": result["session"], "executor": result["executor"],
         "pairs": len(suite.pairs()), "run_now": len(result["records"]), "resumed": result["resumed"],
+        "claimed_elsewhere": result["claimed_elsewhere"],
         "notes": result["notes"], "elapsed_s": time.perf_counter() - start,
         "outcomes": report_module.outcome_counts(records), "methods": report_module.method_table(records, best),
         "failures": report_module.failure_table(records), "environment": env,
@@ -85,6 +92,16 @@ def run_bench(args):
     print(report_module.markdown(summary["methods"]))
     print(f"charts and failure table: ocp report {store.path}")
     return 0
+
+
+def _kept(store):
+    """How many finished rows the store keeps (closing it), in words."""
+    try:
+        rows = len(store.done())
+    except Fault:
+        rows = "the"
+    store.close()
+    return f"{rows} finished rows are kept in {store.path}"
 
 
 def run_report(args):

@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core import plotting
+from ..core.files import folder, write_text
 from ..core.numbers import order
 from .store import Store, to_csv, to_json
 
@@ -363,8 +364,9 @@ def report(store_path, out_dir=None, budgets=BUDGETS, accuracies=ACCURACIES, for
     """The report of the store at `store_path`: a dict of tables (and, with `out_dir`, the charts,
     summary.md, results.csv and results.json written there). `budgets`: the accuracy profile's time
     budgets, multiples of the fastest answer on each case; `accuracies`: the time profile's targets
-    of |T - T_ref| (each a number or a sequence)."""
-    store = Store(store_path, create=False)
+    of |T - T_ref| (each a number or a sequence). The store is opened read-only and every record
+    checked before anything is written; each file is written whole (`ocp.core.files`)."""
+    store = Store(store_path, write=False)
     try:
         records, sessions = store.results(), store.sessions()
     finally:
@@ -381,8 +383,7 @@ def report(store_path, out_dir=None, budgets=BUDGETS, accuracies=ACCURACIES, for
     }
     if out_dir is None:
         return tables
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    out = folder(out_dir)
     budgets = tuple(budgets) if isinstance(budgets, (list, tuple)) else (budgets,)
     accuracies = tuple(accuracies) if isinstance(accuracies, (list, tuple)) else (accuracies,)
     charts = work_precision(records, out, formats)
@@ -390,7 +391,7 @@ def report(store_path, out_dir=None, budgets=BUDGETS, accuracies=ACCURACIES, for
                              formats)
     tables["files"] = [str(p) for p in charts + [to_csv(records, out / "results.csv"),
                                                  to_json(records, out / "results.json")]]
-    (out / "summary.md").write_text(summary_markdown(tables))
+    write_text(out / "summary.md", summary_markdown(tables))
     tables["files"].append(str(out / "summary.md"))
     return tables
 

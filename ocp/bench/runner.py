@@ -20,19 +20,24 @@ solver that raises, all stored with their status.
 
 import concurrent.futures as cf
 import contextlib
+import ctypes
 import math
+import os
+import signal
 import statistics
 import sys
+import threading
 import time
 from types import SimpleNamespace
 
 from .. import direct
 from ..core import cache
-from ..core.errors import InputError, last_line
+from ..core.errors import Fault, InputError, last_line
 from ..core.output import solver_output
 from ..result import DirectClass
 from ..solving import classify, solve
 from . import peer
+from .store import process_alive
 from .suite import PEER, SEARCH
 
 #: a formula and the search agree when their T differ by less than this
@@ -211,13 +216,35 @@ def executor(jobs=1, scheduler=None):
             client = distributed.Client(scheduler, timeout=10)
         except (OSError, TimeoutError) as err:
             raise InputError(f"cannot reach the Dask scheduler at {scheduler}: {last_line(err)}") from None
+        except (ValueError, TypeError) as err:
+            raise InputError(f"--scheduler {scheduler!r} is not a scheduler address ({last_line(err)}); accepted: "
+                             f"an address such as tcp://host:8786") from None
         with client:
             yield client.get_executor(), max(1, sum(client.nthreads().values())), f"dask {scheduler}"
     elif jobs == 1:
         yield SerialExecutor(), 1, "serial (this process)"
     else:
-        with cf.ProcessPoolExecutor(jobs) as pool:
+        with cf.ProcessPoolExecutor(jobs, initializer=die_with_parent, initargs=(os.getpid(),)) as pool:
             yield pool, jobs, f"{jobs} local worker processes"
+
+
+PR_SET_PDEATHSIG = 1
+
+
+def die_with_parent(parent):
+    """Worker initializer: this process ends when the process `parent` does (a killed `ocp bench`
+    leaves no orphans): Linux's parent-death signal where `parent` is the direct parent, and a
+    thread that checks once a second."""
+    if sys.platform.startswith("linux") and os.getppid() == parent:
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    threading.Thread(target=_watch, args=(parent,), daemon=True).start()
+
+
+def _watch(parent):
+    while process_alive(parent):
+        time.sleep(1.0)
+    os._exit(1)
 
 
 class Progress:
@@ -268,16 +295,36 @@ def drain(pool, workers, tasks, handle, progress):
             future.cancel()
 
 
+def timing_note(workers, others):
+    """How a row was timed: alone, in parallel with its own workers, and/or while other `ocp bench`
+    sessions (ids `others`) wrote to the same store."""
+    parts = ["timed in parallel: workers share the machine"] if workers > 1 else []
+    if others:
+        parts.append(f"timed while another ocp bench wrote to this store (session {', '.join(map(str, others))}): "
+                     f"it may have shared the machine")
+    return "; ".join(parts) or "timed alone"
+
+
 def run(suite, store, pool, workers, executor_name, environment):
-    """Run every pair of `suite` not yet in `store` (references first), storing rows as they
-    complete. The peer's pairs are skipped, with a note, when rockit is not installed. Returns
-    {session, executor, records (of this session), resumed (pairs already stored), notes}."""
+    """Run every pair of `suite` not yet in `store` with the suite's settings (references first),
+    storing rows as they complete. Each pair is claimed in the store just before it is submitted:
+    a pair another live `ocp bench` runs is left to it (a note says how many). The peer's pairs are
+    skipped, with a note, when rockit is not installed. Returns {session, executor, records (of
+    this session), resumed (pairs already stored), claimed_elsewhere, notes}."""
     notes = []
     if not peer.available() and any(m.transcription == "rockit" for m in suite.methods):
         notes.append(peer.MISSING)
     session = store.open_session(suite.name, executor_name, environment)
-    timing = {"executor": executor_name, "workers": workers, "parallel": workers > 1,
-              "note": "timed in parallel: workers share the machine" if workers > 1 else "timed alone"}
+    try:
+        return _run(suite, store, pool, workers, executor_name, session, notes)
+    except cf.BrokenExecutor as err:
+        raise Fault(f"a worker process died ({last_line(err)}; out of memory?)") from None
+    finally:
+        with contextlib.suppress(Fault):
+            store.end_session(session)
+
+
+def _run(suite, store, pool, workers, executor_name, session, notes):
     refs = store.references()
     needed = list(dict.fromkeys(c.problem_key for c in suite.cases if c.problem_key not in refs))
     first_case = {c.problem_key: c for c in reversed(suite.cases)}
@@ -290,23 +337,40 @@ def run(suite, store, pool, workers, executor_name, environment):
     if needed:
         drain(pool, workers, [(reference, (first_case[k],), k) for k in needed], add_reference,
                Progress(len(needed), "references"))
-    done = store.done()
+    settings = suite.settings_key
+    done = store.done(settings)
     todo = [(c, m) for c, m in suite.pairs() if (c.key, m.key) not in done
             and (m.transcription != "rockit" or not notes)]
-    records = []
+    records, skipped = [], {"stored": 0, "claimed": 0}
+    progress = Progress(len(todo), "runs")
 
-    def add_result(pair, rec):
-        case, method = pair
+    def claimed():
+        for case, method in todo:
+            status = store.claim(case.key, method.key, settings, session)
+            if status == "mine":
+                yield measure, (case, method, suite.repeats, suite.miss_tol), (case, method, time.time())
+            else:
+                skipped[status] += 1
+                progress.step(f"{case.label} | {method.label}: {status} by another ocp bench")
+
+    def add_result(context, rec):
+        case, method, started = context
         rec = score(rec, refs[case.problem_key], case, suite.time_limit_s)
+        others = store.concurrent(session, started)
+        timing = {"executor": executor_name, "workers": workers, "parallel": workers > 1,
+                  "concurrent_sessions": others, "note": timing_note(workers, others)}
         rec.update(suite=suite.name, case=case.key, method=method.key, case_label=case.label,
                    family=method.family, label=method.label, N=method.N, problem=case.problem_key,
-                   guess="default" if case.guess is None else case.guess, repeats=suite.repeats, timing=timing)
-        store.add_result(case.key, method.key, session, rec)
+                   guess="default" if case.guess is None else case.guess, **suite.settings, timing=timing)
+        store.add_result(case.key, method.key, session, rec, settings, started)
         records.append(rec)
         return f"{case.label} | {method.label}: {rec['outcome']}"
 
     if todo:
-        drain(pool, workers, [(measure, (c, m, suite.repeats, suite.miss_tol), (c, m)) for c, m in todo],
-               add_result, Progress(len(todo), "runs"))
-    resumed = sum((c.key, m.key) in done for c, m in suite.pairs())
-    return {"session": session, "executor": executor_name, "records": records, "resumed": resumed, "notes": notes}
+        drain(pool, workers, claimed(), add_result, progress)
+    if skipped["claimed"]:
+        notes.append(f"{skipped['claimed']} pairs were being run by another ocp bench on this store and were left "
+                     f"to it; the same command, once it has ended, shows them")
+    return {"session": session, "executor": executor_name, "records": records,
+            "resumed": sum((c.key, m.key) in done for c, m in suite.pairs()) + skipped["stored"],
+            "claimed_elsewhere": skipped["claimed"], "notes": notes}

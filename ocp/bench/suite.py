@@ -22,6 +22,13 @@ these" and the table expands to the Cartesian product of its lists:
     options = { ipopt = { "ipopt.tol" = 1e-10 } }   # per solver, passed to casadi.nlpsol untouched
                                                     # (options that run a program or touch a file are refused)
 
+Every value is checked when the file is read (`load`): its type (a string is not a number), its
+range, the name (it names the default store, so it cannot leave the working folder), and the size
+(MAX_PAIRS, MAX_RUNS; `ocp bench` asks for --yes above `ocp.bench.command.CONFIRM_RUNS` solves); an error names the
+file, the table and the field, and what is accepted. A file is data: it cannot run a program or
+touch a file (`ocp.direct.options`). The settings that change a row's outcome (repeats, miss_tol,
+time_limit_s: `Suite.settings`) are part of the row's key in the store.
+
 Cases and methods are plain frozen data (`Case`, `Method`): they travel to worker processes or a
 cluster as they are, and a worker rebuilds the NLP from them.
 """
@@ -29,6 +36,7 @@ cluster as they are, and a worker rebuilds the NLP from them.
 import itertools
 import json
 import math
+import re
 import tomllib
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
@@ -37,13 +45,31 @@ from importlib import resources
 
 from .. import direct
 from ..core import problem as problems
-from ..core.errors import InputError
+from ..core.errors import Fault, InputError, finite, integer, short
+from ..direct.nlp import SOLVER_NAME
 from ..direct.options import checked
 
 PEER = "rockit"
 SEARCH = "extremal-search"
+SEARCH_FAMILY = "extremal search"           # its family (`Method.family`): the only one without an N
 #: what a method row may be: a direct transcription of ocp, the peer, or the search
 KINDS_OF_METHOD = (*direct.TRANSCRIPTIONS, PEER, SEARCH)
+
+#: limits of a suite: a file of at most MAX_BYTES, at most MAX_PAIRS cases, methods and pairs, at
+#: most MAX_RUNS solves (pairs x repeats)
+MAX_BYTES = 1_000_000
+MAX_PAIRS = 100_000
+MAX_RUNS = 100_000
+MAX_REPEATS = 100
+MAX_TIME_LIMIT_S = 86_400.0
+MAX_SEED = 2**32 - 1
+#: a suite's name: it names the default store, ocp-bench-NAME.sqlite, in the working folder
+NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
+NUMBER = (int, float)
+NAME_RULE = "letters, digits, '.', '_' and '-' (at most 64, a letter or digit first)"
+REPEATS_RULE = f"an integer from 1 to {MAX_REPEATS}"
+TIME_RULE = f"a number of seconds from 0.001 to {MAX_TIME_LIMIT_S:g} (leave it out for no limit)"
+MISS_RULE = f"a number from {direct.MISS_TOL_RANGE[0]:g} to {direct.MISS_TOL_RANGE[1]:g}"
 
 
 def _suites_dir():
@@ -102,6 +128,9 @@ class Method:
     options: dict = field(default_factory=dict)
 
     def __post_init__(self):
+        if not isinstance(self.solver, str) or not SOLVER_NAME.fullmatch(self.solver):
+            raise InputError(f"solver = {short(self.solver)} is not a solver name; accepted: a casadi.nlpsol plugin "
+                             f"name (lower-case letters, digits, _), e.g. ipopt")
         if self.transcription not in KINDS_OF_METHOD:
             raise InputError(f"unknown transcription {self.transcription!r}; accepted: {', '.join(KINDS_OF_METHOD)}")
         if self.transcription == SEARCH and (self.settings or self.options or self.solver != "ipopt"):
@@ -146,7 +175,7 @@ class Method:
     def family(self):
         """The method without its N: one curve of a work-precision chart."""
         if self.transcription == SEARCH:
-            return "extremal search"
+            return SEARCH_FAMILY
         t = self.transcription_object()
         name = f"rockit MS rk M={t.M}" if self.transcription == PEER else t.family()
         name += f" / {self.solver}"
@@ -167,74 +196,188 @@ class Suite:
     cases: tuple
     methods: tuple
 
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not NAME.fullmatch(self.name):
+            raise InputError(f"name = {short(self.name)} is not a suite name; accepted: {NAME_RULE}")
+
+    @property
+    def settings(self):
+        """The suite settings that change a row's outcome: part of the row's key in the store."""
+        return {"repeats": self.repeats, "miss_tol": self.miss_tol,
+                "time_limit_s": None if math.isinf(self.time_limit_s) else self.time_limit_s}
+
+    @property
+    def settings_key(self):
+        return _key(self.settings)
+
     def pairs(self):
         """Every (case, method) pair, cases outermost."""
         return [(c, m) for c in self.cases for m in self.methods]
 
 
+def _typed(name, value, types, accepted):
+    """`value` if it is of `types` (a bool is not a number), else InputError saying what `name` accepts."""
+    if isinstance(value, bool) != (bool in types) or not isinstance(value, types):
+        raise InputError(f"{name} = {short(value)} is {_toml_type(value)}; {name} accepts {accepted}")
+    return value
+
+
+def _toml_type(value):
+    kinds = {bool: "a boolean", str: "a string", int: "an integer", float: "a float", list: "an array", dict: "a table"}
+    return next((text for t, text in kinds.items() if isinstance(value, t)), f"a {type(value).__name__}")
+
+
 def _expand(table, what):
-    """The Cartesian product of a table's list values (x0: a list of pairs expands, a pair does not)."""
+    """The Cartesian product of a table's list values (x0: a list of pairs expands, a pair does not);
+    InputError if it would exceed MAX_PAIRS."""
+    _typed(what, table, (dict,), f"tables: [[{what}]] with a key = value per line")
     axes = {}
     for k, v in table.items():
         if k == "x0" and isinstance(v, list) and v and not isinstance(v[0], list):
             v = [v]
         axes[k] = v if isinstance(v, list) else [v]
-    try:
-        return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
-    except TypeError:
-        raise InputError(f"a {what} table is not a table of values: {table!r}") from None
+    if math.prod(len(v) for v in axes.values()) > MAX_PAIRS:
+        raise InputError(f"a [[{what}]] table expands to {math.prod(len(v) for v in axes.values())} entries; "
+                         f"accepted: at most {MAX_PAIRS}")
+    return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
 
 
 def _case(d):
     names = {f.name for f in fields(Case)}
     if set(d) - names:
         raise InputError(f"unknown case field(s) {sorted(set(d) - names)}; accepted: {', '.join(sorted(names))}")
+    if "kind" not in d or "kappa" not in d:
+        raise InputError("a case needs kind and kappa")
+    _typed("kind", d.get("kind"), (str,), f"one of: {', '.join(problems.KINDS)}")
+    _typed("kappa", d.get("kappa"), NUMBER, "a number (the torque bound)")
+    x0 = d.get("x0")
+    if x0 is not None and not (isinstance(x0, list) and len(x0) == 2 and all(
+            isinstance(v, NUMBER) and not isinstance(v, bool) for v in x0)):
+        raise InputError(f"x0 = {short(x0)} is not a start; x0 accepts a pair of numbers [theta, omega] "
+                         f"or a list of pairs")
     guess = d.get("guess", "default")
-    if guess != "default" and (isinstance(guess, bool) or not isinstance(guess, int)):
-        raise InputError(f"guess = {guess!r} must be \"default\" or an integer seed")
-    case = Case(d.get("kind"), d.get("kappa"), None if d.get("x0") is None else tuple(d["x0"]),
-                None if guess == "default" else guess)
+    if guess != "default" and (isinstance(guess, bool) or not isinstance(guess, int) or not 0 <= guess <= MAX_SEED):
+        raise InputError(f"guess = {short(guess)} must be \"default\" or an integer seed from 0 to {MAX_SEED}")
+    case = Case(d["kind"], d["kappa"], None if x0 is None else tuple(x0), None if guess == "default" else guess)
     case.problem()      # validates kind, kappa, x0
     return case
 
 
+def _plain(value, name, depth=0):
+    """InputError unless `value` is plain data an NLP option may be (numbers, text, booleans, arrays
+    and tables of them, nested at most 4 deep)."""
+    if depth > 4:
+        raise InputError(f"{name} is nested too deeply for an NLP option")
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _plain(v, f"{name}.{k}", depth + 1)
+    elif isinstance(value, list):
+        for v in value:
+            _plain(v, name, depth + 1)
+    elif not isinstance(value, (str, int, float, bool)):
+        raise InputError(f"{name} = {short(value)} is {_toml_type(value)}; an NLP option is a number, text, "
+                         f"a boolean, or an array or table of them")
+
+
 def _method(d):
-    names = {"transcription", "solver", "options"} | {f for c in direct.TRANSCRIPTIONS.values() for f in c.__dataclass_fields__}
+    settings = {f.name: f.type for c in direct.TRANSCRIPTIONS.values() for f in fields(c)}
+    names = {"transcription", "solver", "options"} | set(settings)
     if set(d) - names:
         raise InputError(f"unknown method field(s) {sorted(set(d) - names)}; accepted: {', '.join(sorted(names))}")
+    for key, value in d.items():
+        if key in settings:
+            kind = settings[key]
+            _typed(key, value, NUMBER if kind is float else (kind,), {int: "an integer", float: "a number"}.get(kind, "text"))
+    transcription = _typed("transcription", d.get("transcription", "multiple-shooting"), (str,),
+                           f"one of: {', '.join(KINDS_OF_METHOD)}")
+    solver = _typed("solver", d.get("solver", "ipopt"), (str,), "a casadi.nlpsol plugin name, e.g. ipopt")
     options = d.get("options", {})
     if not isinstance(options, dict) or not all(isinstance(v, dict) for v in options.values()):
-        raise InputError(f"options = {options!r} must be a table per solver, e.g. options = {{ ipopt = {{ \"ipopt.tol\" = 1e-10 }} }}")
-    settings = tuple(sorted((k, v) for k, v in d.items() if k not in ("transcription", "solver", "options")))
-    return Method(d.get("transcription", "multiple-shooting"), settings, d.get("solver", "ipopt"),
-                  options.get(d.get("solver", "ipopt"), {}))
+        raise InputError(f"options = {short(options)} must be a table per solver, e.g. options = {{ ipopt = {{ \"ipopt.tol\" = 1e-10 }} }}")
+    _plain(options, "options")
+    given = tuple(sorted((k, v) for k, v in d.items() if k in settings))
+    return Method(transcription, given, solver, options.get(solver, {}))
+
+
+def _read(path):
+    """The TOML table of the file at `path` (InputError if it is not a UTF-8 TOML file of at most MAX_BYTES)."""
+    try:
+        if path.stat().st_size > MAX_BYTES:
+            raise InputError(f"{path}: {path.stat().st_size} bytes; a suite file has at most {MAX_BYTES}")
+        raw = path.read_bytes()
+    except OSError as err:
+        raise Fault(f"cannot read the suite {path}: {err.strerror or err}") from None
+    try:
+        return tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as err:
+        raise InputError(f"{path}: not UTF-8 text ({err.reason} at byte {err.start}); a suite is a TOML file "
+                         f"in UTF-8") from None
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"{path}: not valid TOML: {err}") from None
+    except RecursionError:
+        raise InputError(f"{path}: nested too deeply to be a suite") from None
+
+
+def _setting(data, key, check, default):
+    return default if key not in data else check(key, data[key])
 
 
 def load(name_or_path):
-    """The Suite named `name_or_path` (a suite of ocp/bench/suites, e.g. "quick") or at that path."""
+    """The Suite named `name_or_path` (a suite of ocp/bench/suites, e.g. "quick") or at that path;
+    every value checked (InputError naming the file and the field, with what it accepts)."""
     path = Path(name_or_path)
     if not path.suffix:
+        if not NAME.fullmatch(str(name_or_path)):
+            raise InputError(f"no suite {short(str(name_or_path))}; accepted: a TOML file, or one of: {', '.join(_named())}")
         path = _suites_dir() / f"{name_or_path}.toml"
     if not path.is_file():
-        named = sorted(p.name[:-5] for p in _suites_dir().iterdir() if p.name.endswith(".toml"))
-        raise InputError(f"no suite {name_or_path!r}; accepted: a TOML file, or one of: {', '.join(named)}")
-    try:
-        data = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(f"{path}: not valid TOML: {err}") from None
+        raise InputError(f"no suite {short(str(name_or_path))}; accepted: a TOML file, or one of: {', '.join(_named())}")
+    data = _read(path)
     known = {"name", "description", "repeats", "time_limit_s", "miss_tol", "cases", "methods"}
     if set(data) - known:
         raise InputError(f"{path}: unknown key(s) {sorted(set(data) - known)}; accepted: {', '.join(sorted(known))}")
     try:
-        cases = tuple(dict.fromkeys(_case(d) for t in data.get("cases", []) for d in _expand(t, "cases")))
-        methods = tuple(dict.fromkeys(_method(d) for t in data.get("methods", []) for d in _expand(t, "methods")))
-    except (InputError, TypeError) as err:
+        name = _setting(data, "name", _name, _sanitised(path.stem))
+        description = _setting(data, "description", lambda k, v: _typed(k, v, (str,), "text"), "")
+        repeats = _setting(data, "repeats", lambda k, v: integer(k, _typed(k, v, (int,), REPEATS_RULE), REPEATS_RULE,
+                                                                 1, MAX_REPEATS), 1)
+        time_limit = _setting(data, "time_limit_s", lambda k, v: finite(k, _typed(k, v, NUMBER, TIME_RULE), TIME_RULE,
+                                                                       1e-3, MAX_TIME_LIMIT_S), math.inf)
+        miss_tol = _setting(data, "miss_tol", lambda k, v: finite(k, _typed(k, v, NUMBER, MISS_RULE), MISS_RULE,
+                                                                 *direct.MISS_TOL_RANGE), direct.MISS_TOL)
+        tables = {what: _typed(what, data.get(what, []), (list,), f"[[{what}]] tables") for what in ("cases", "methods")}
+    except InputError as err:
         raise InputError(f"{path}: {err}") from None
-    repeats = data.get("repeats", 1)
-    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
-        raise InputError(f"{path}: repeats = {repeats!r} must be an integer >= 1")
+    found = {}
+    for what, make in (("cases", _case), ("methods", _method)):
+        items = []
+        for i, table in enumerate(tables[what], 1):
+            try:
+                items += [make(d) for d in _expand(table, what)]
+            except InputError as err:
+                raise InputError(f"{path}: [[{what}]] #{i}: {err}") from None
+            if len(items) > MAX_PAIRS:
+                raise InputError(f"{path}: more than {MAX_PAIRS} {what}; accepted: at most {MAX_PAIRS}")
+        found[what] = tuple(dict.fromkeys(items))
+    cases, methods = found["cases"], found["methods"]
     if not cases or not methods:
         raise InputError(f"{path}: a suite needs at least one [[cases]] and one [[methods]] table")
-    return Suite(data.get("name", path.stem), data.get("description", ""), repeats,
-                 float(data.get("time_limit_s", math.inf)), float(data.get("miss_tol", direct.MISS_TOL)),
-                 cases, methods)
+    if len(cases) * len(methods) * repeats > MAX_RUNS:
+        raise InputError(f"{path}: {len(cases)} cases x {len(methods)} methods x {repeats} repeats = "
+                         f"{len(cases) * len(methods) * repeats} solves; accepted: at most {MAX_RUNS}")
+    return Suite(name, description, repeats, time_limit, miss_tol, cases, methods)
+
+
+def _name(key, value):
+    if not NAME.fullmatch(_typed(key, value, (str,), NAME_RULE)):
+        raise InputError(f"{key} = {short(value)} is not a suite name (it names the store); {key} accepts {NAME_RULE}")
+    return value
+
+
+def _named():
+    return sorted(p.name[:-5] for p in _suites_dir().iterdir() if p.name.endswith(".toml"))
+
+
+def _sanitised(stem):
+    """A file's stem as a suite name (NAME): other characters become '-'."""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "-", stem).strip(".-_")[:64] or "suite"

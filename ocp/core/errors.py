@@ -25,11 +25,11 @@ def finite(name, value, accepted="a finite number", low=-math.inf, high=math.inf
     try:
         number = float(value)
     except (TypeError, ValueError, OverflowError):
-        raise InputError(f"{name} = {_short(value)} is not a number; {name} accepts {accepted}") from None
+        raise InputError(f"{name} = {short(value)} is not a number; {name} accepts {accepted}") from None
     if not math.isfinite(number):
-        raise InputError(f"{name} = {_short(value)} is not finite; {name} accepts {accepted}")
+        raise InputError(f"{name} = {short(value)} is not finite; {name} accepts {accepted}")
     if not low <= number <= high:
-        raise InputError(f"{name} = {_short(value)} is out of range; {name} accepts {accepted}")
+        raise InputError(f"{name} = {short(value)} is out of range; {name} accepts {accepted}")
     return number
 
 
@@ -41,20 +41,21 @@ def integer(name, value, accepted, low, high):
     if isinstance(value, str):
         text = value.strip()
         if len(text) > 20 or not text.lstrip("+-").isdigit():
-            raise InputError(f"{name} = {_short(value)} is not an integer; {name} accepts {accepted}")
+            raise InputError(f"{name} = {short(value)} is not an integer; {name} accepts {accepted}")
         number = int(text)
     elif isinstance(value, int):
         number = value
     elif isinstance(value, float) and value.is_integer():
         number = int(value)
     else:
-        raise InputError(f"{name} = {_short(value)} is not an integer; {name} accepts {accepted}")
+        raise InputError(f"{name} = {short(value)} is not an integer; {name} accepts {accepted}")
     if not low <= number <= high:
-        raise InputError(f"{name} = {_short(value)} is out of range; {name} accepts {accepted}")
+        raise InputError(f"{name} = {short(value)} is out of range; {name} accepts {accepted}")
     return number
 
 
-def _short(value):
+def short(value):
+    """repr(value), cut to 40 characters."""
     text = repr(value)
     return text if len(text) <= 40 else text[:37] + "..."
 

@@ -33,8 +33,8 @@ def print_json(obj):
 
 @contextlib.contextmanager
 def solver_output(to):
-    """Descriptors 1 and 2, and Python's sys.stdout, to `to` ("stderr": to stderr; "devnull":
-    discarded) meanwhile. The C library's buffers are flushed before the descriptors return, or a
+    """Descriptors 1 and 2, and Python's sys.stdout (and with "devnull" sys.stderr, where CasADi's
+    warnings go), to `to` ("stderr": to stderr; "devnull": discarded) meanwhile. The C library's buffers are flushed before the descriptors return, or a
     solver's buffered output (e.g. feasiblesqpmethod's banner) would surface later on the real stdout."""
     sys.stdout.flush()
     sys.stderr.flush()
@@ -44,7 +44,7 @@ def solver_output(to):
     os.dup2(sink, 2)
     try:
         with open(os.devnull, "w") if to == "devnull" else contextlib.nullcontext(sys.stderr) as python_sink, \
-                contextlib.redirect_stdout(python_sink):
+                contextlib.redirect_stdout(python_sink), contextlib.redirect_stderr(python_sink):
             yield
     finally:
         sys.stdout.flush()

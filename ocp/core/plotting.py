@@ -9,6 +9,8 @@
 import contextlib
 from pathlib import Path
 
+from .files import replacing
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -43,18 +45,20 @@ def style():
 
 
 def save(fig, stem, formats=("png", "pdf")):
-    """Write fig to stem.<format> for each format (no timestamps, so the bytes are reproducible);
-    close it; return the paths."""
+    """Write fig to stem.<format> for each format (no timestamps, so the bytes are reproducible;
+    each file written whole, `ocp.core.files`: Fault if it cannot be); close it; return the paths."""
     stem = Path(stem)
-    stem.parent.mkdir(parents=True, exist_ok=True)
     paths = []
-    for fmt in formats:
-        if fmt not in FORMATS:
-            raise ValueError(f"unknown figure format {fmt!r}; accepted: {', '.join(FORMATS)}")
-        path = stem.with_name(f"{stem.name}.{fmt}")          # a dot inside the name is not a suffix
-        metadata = {"png": {"Software": None}, "pdf": {"CreationDate": None, "ModDate": None, "Producer": None},
-                    "svg": {"Date": None}}[fmt]
-        fig.savefig(path, format=fmt, metadata=metadata, bbox_inches="tight")
-        paths.append(path)
-    plt.close(fig)
+    try:
+        for fmt in formats:
+            if fmt not in FORMATS:
+                raise ValueError(f"unknown figure format {fmt!r}; accepted: {', '.join(FORMATS)}")
+            path = stem.with_name(f"{stem.name}.{fmt}")          # a dot inside the name is not a suffix
+            metadata = {"png": {"Software": None}, "pdf": {"CreationDate": None, "ModDate": None, "Producer": None},
+                        "svg": {"Date": None}}[fmt]
+            with replacing(path, "wb") as f:
+                fig.savefig(f, format=fmt, metadata=metadata, bbox_inches="tight")
+            paths.append(path)
+    finally:
+        plt.close(fig)
     return paths

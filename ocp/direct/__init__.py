@@ -10,7 +10,7 @@ from .base import settings_error
 from .collocation import DirectCollocation
 from .guess import Guess, default_guesses, random_guess
 from .shooting import INTEGRATORS, MultipleShooting
-from .solve import MESSAGES, MISS_TOL, DirectSolution, DirectStatus, solve
+from .solve import MESSAGES, MISS_TOL, MISS_TOL_RANGE, DirectSolution, DirectStatus, solve
 
 TRANSCRIPTIONS = {
     "multiple-shooting": MultipleShooting,
@@ -36,4 +36,4 @@ def make(name, **settings):
 
 
 __all__ = ["TRANSCRIPTIONS", "INTEGRATORS", "MultipleShooting", "DirectCollocation", "Guess", "default_guesses",
-           "random_guess", "solve", "make", "DirectSolution", "DirectStatus", "MESSAGES", "MISS_TOL"]
+           "random_guess", "solve", "make", "DirectSolution", "DirectStatus", "MESSAGES", "MISS_TOL", "MISS_TOL_RANGE"]

@@ -13,6 +13,7 @@ one build serves every problem (`build`, cached in `ocp.core.cache`).
 
 import json
 import math
+import re
 import time
 from dataclasses import dataclass
 
@@ -20,12 +21,15 @@ import numpy as np
 
 from ..core.cache import cached
 from ..core.errors import InputError, last_line
+from ..core.output import solver_output
 from ..core.problem import CONTROL_BOUNDS, terminal_bounds, terminal_constraints
 from .base import Transcription
 
 #: NLP plugins tried by `available_solvers`
 NLP_PLUGINS = ("ipopt", "fatrop", "sqpmethod", "feasiblesqpmethod", "blocksqp", "bonmin", "knitro", "snopt",
                "worhp", "madnlp", "alpaqa", "qrsqp", "scpgen")
+#: what a solver name may be: CasADi loads the library libcasadi_nlpsol_<name>, so nothing else is tried
+SOLVER_NAME = re.compile(r"[a-z][a-z0-9_]{0,31}")
 
 
 @dataclass
@@ -135,6 +139,9 @@ def build(settings, solver_name="ipopt", options=None, reading="circle"):
     quiet defaults; the caller has checked them (`ocp.direct.options.checked`)."""
     import casadi as ca
 
+    if not isinstance(solver_name, str) or not SOLVER_NAME.fullmatch(solver_name):
+        raise InputError(f"solver {str(solver_name)[:40]!r} is not a solver name (lower-case letters, digits, _); "
+                         f"accepted: {', '.join(available_solvers())}")
     if not ca.has_nlpsol(solver_name):
         raise InputError(f"unknown or unavailable NLP solver {solver_name!r}; accepted: {', '.join(available_solvers())}")
     return _build(settings, solver_name, json.dumps(options or {}, sort_keys=True), reading)
@@ -148,12 +155,22 @@ def _build(settings, solver_name, options_json, reading):
     nlp, lbg, ubg = _nlp(settings, reading)
     options = json.loads(options_json)
     try:
-        solver = ca.nlpsol("nlp", solver_name, nlp, _solver_options(solver_name, options, settings, lbg, ubg))
+        with solver_output("devnull"):      # a rejected option prints the solver's help, fatrop hundreds of warnings
+            solver = ca.nlpsol("nlp", solver_name, nlp, _solver_options(solver_name, options, settings, lbg, ubg))
     except RuntimeError as err:
         raise InputError(f"casadi.nlpsol({solver_name!r}) could not be built with the options {options}: "
-                         f"{last_line(err)}") from None
+                         f"{_cause(err, solver_name)}") from None
     return NLP(settings, solver_name, options, reading, solver, nlp["x"].numel(), nlp["g"].numel(), lbg, ubg,
                time.perf_counter() - start)
+
+
+def _cause(err, solver_name):
+    """The line of a CasADi error that gives the cause: the solver's own ("Fatrop: ...", its first
+    sentence), else the last."""
+    for line in str(err).splitlines():
+        if line.lower().startswith(solver_name + ":"):
+            return line.split(". ", 1)[0].rstrip(".") + "."
+    return last_line(err)
 
 
 def available_solvers():

@@ -29,6 +29,8 @@ from .options import checked
 from .shooting import MultipleShooting
 
 MISS_TOL = 1e-6
+#: accepted values of miss_tol (the command line's --miss-tol, a suite's miss_tol)
+MISS_TOL_RANGE = (1e-15, 1.0)
 #: the measured bound h^2/2 of T holds up to this N (multiple shooting, rk4; benchmarks/direct_error.py:
 #: the largest N measured where it holds on all four cases; at N = 1600 it fails)
 BOUND_N_MAX = 800

@@ -117,7 +117,7 @@ def three_quarters():
 
 def _fmt(value, error):
     """value with at most 4 decimals, fewer if its error does not defend them; a true minus sign."""
-    return digits(value, max(error, 5e-5)).replace("-", "−")
+    return digits(value, max(error, 1e-4)).replace("-", "−")
 
 
 def _signs(signs):
@@ -166,7 +166,7 @@ def draw(data, title):
         status = "certified extremal" if traj.certified else "NOT certified"
         handles.append((ax.plot([], [], color="black", ls=ls, lw=2.0)[0],
                         f"{n} switch{'es' if n > 1 else ''}, u = {_signs(traj.signs)}: "
-                        f"T = {digits(traj.T, max(traj.T_error, 5e-7))} ({status})"))
+                        f"T = {digits(traj.T, max(traj.T_error, 1e-6))} ({status})"))
         if traj.analytic is not None:
             formulas.extend(traj.analytic.switch_states)
     switches = np.concatenate([t.switch_states for t in data["trajectories"]])

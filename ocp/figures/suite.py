@@ -9,8 +9,9 @@ from ..bench.store import Store
 
 
 def records(store):
-    """Every result record of the store at `store` (InputError if there is none)."""
-    db = Store(store, create=False)
+    """Every result record of the store at `store`, opened read-only (InputError if there is none,
+    Fault if it is not an ocp store)."""
+    db = Store(store, write=False)
     try:
         return db.results()
     finally:

@@ -1,1 +1,0 @@
-"""Exact references: closed forms and quadratures of the torque-limited pendulum (`finch`)."""

@@ -12,6 +12,12 @@ Parts (all by default, in this order):
                       benchmarks/README.md; benchmarks/results/quick/ (charts, summary.md, results.csv)
     figures        ocp figures --out docs/figures --format png --only (the six paper figures)
                    -> the gallery of README.md
+    speed          python benchmarks/search_speed.py; python benchmarks/synthesis_speed.py
+                   -> the search against the textbook method, the maps against per-state solves
+                      (README.md)
+    bifurcation    ocp bifurcation --store benchmarks/results/bifurcation.jsonl --jobs 2   (fresh)
+                   -> ocp/synthesis/data/bifurcation.jsonl (read by ocp verify) and the table of
+                      the values kappa_n in README.md
     timings        ocp solve, ocp verify (and, with --time-tests, python -m pytest), timed here,
                    with the times of the parts above -> the table "How long things take" in README.md
 
@@ -38,7 +44,13 @@ STORE = "benchmarks/results/quick.sqlite"
 REPORT = "benchmarks/results/quick"
 PAPER_FIGURES = ("finch-fig1", "finch-fig2", "finch-kappa-3-4", "batista-fig1", "pivot-histories", "pivot-chart")
 #: part -> the files besides ocp/ whose change makes its results stale
-MEASURED = {"direct-error": ["benchmarks/direct_error.py"], "bench": [], "figures": [], "timings": []}
+MEASURED = {"direct-error": ["benchmarks/direct_error.py"], "bench": [], "figures": [],
+            "speed": ["benchmarks/search_speed.py", "benchmarks/synthesis_speed.py"], "bifurcation": [],
+            "timings": []}
+#: the measured code: ocp/ without the data this script writes into it
+CODE = ["ocp/", ":(exclude)ocp/synthesis/data"]
+BIFURCATION_STORE = "benchmarks/results/bifurcation.jsonl"
+BIFURCATION_DATA = "ocp/synthesis/data/bifurcation.jsonl"
 PARTS = tuple(MEASURED)
 
 
@@ -155,6 +167,30 @@ def figures(commit):
     return record
 
 
+def speed(commit):
+    record = {"commit": commit, "command": "", "seconds": 0.0, "environment": environment()}
+    for name, block in (("search_speed.py", "search-speed"), ("synthesis_speed.py", "synthesis-speed")):
+        shown = f"python benchmarks/{name}"
+        seconds, out = run([sys.executable, f"benchmarks/{name}"], shown)
+        record["command"] = f"{record['command']} && {shown}" if record["command"] else shown
+        record["seconds"] += seconds
+        replace_block(ROOT / "README.md", block, f"    {shown}\n\n{out.strip()}\n\n{stamp(record)}")
+    return record
+
+
+def bifurcation(commit, jobs):
+    store = ROOT / BIFURCATION_STORE
+    store.unlink(missing_ok=True)                     # fresh: nothing resumed from older code
+    shown = f"ocp bifurcation --store {BIFURCATION_STORE} --jobs {jobs}"
+    seconds, out = run(ocp_command("bifurcation", "--store", BIFURCATION_STORE, "--jobs", str(jobs)), shown)
+    shutil.copyfile(store, ROOT / BIFURCATION_DATA)
+    record = {"commit": commit, "command": shown, "seconds": seconds, "environment": environment()}
+    replace_block(ROOT / "README.md", "bifurcation",
+                  f"    {shown}\n\n```\n{out.strip()}\n```\n\n(copied to {BIFURCATION_DATA}, which "
+                  f"`ocp verify` reads)\n\n{stamp(record)} Wall time {seconds:.0f} s.")
+    return record
+
+
 def timings(commit, records, time_tests, previous):
     rows, outputs = [], {}
     for shown, argv in (("ocp solve swing-up --kappa 0.75", ocp_command("solve", "swing-up", "--kappa", "0.75")),
@@ -168,10 +204,10 @@ def timings(commit, records, time_tests, previous):
                   "\n".join(["    $ ocp solve swing-up --kappa 0.75"] + [f"    {line}" for line in example]))
     totals = outputs["ocp verify"].rstrip().splitlines()[-1]
     replace_block(ROOT / "README.md", "verify-totals", f"    {totals}\n\n(`ocp verify` at commit {commit[:12]})")
-    for part in ("figures", "bench", "direct-error"):
+    for part in ("figures", "bench", "direct-error", "speed", "bifurcation"):
         r = records.get(part) or previous.get(part)
         if r:
-            rows.append((r["command"].split(" && ")[0], r["seconds"], r["commit"]))
+            rows.append((r["command"].split(" && ")[0] if part == "bench" else r["command"], r["seconds"], r["commit"]))
             if part == "bench":
                 rows.append((r["command"].split(" && ")[1], r["report_seconds"], r["commit"]))
     tests = previous.get("timings", {}).get("tests")
@@ -216,10 +252,14 @@ def main():
             records[part] = bench(commit, args.jobs)
         elif part == "figures":
             records[part] = figures(commit)
+        elif part == "speed":
+            records[part] = speed(commit)
+        elif part == "bifurcation":
+            records[part] = bifurcation(commit, args.jobs)
         else:
             records[part] = timings(commit, records, args.time_tests, previous)
     manifest = {**previous, **records}
-    manifest = {p: dict(manifest[p], measured=["ocp/", *MEASURED[p]]) for p in PARTS if p in manifest}
+    manifest = {p: dict(manifest[p], measured=[*CODE, *MEASURED[p]]) for p in PARTS if p in manifest}
     MANIFEST.write_text(json.dumps(manifest, indent=1) + "\n")
     print(f"publish: wrote {MANIFEST.relative_to(ROOT)} ({', '.join(records)} at {commit[:12]}); commit the results",
           file=sys.stderr)

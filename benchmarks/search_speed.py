@@ -81,8 +81,8 @@ def main():
                          "ocp.solve estimate": s.T_error, "search s": t_search,
                          "ratio": t_solve / t_direct, "reference": "formula" if ref is not None else "search"})
     cache.clear()
-    solve_process = process_time(["ocp", "solve", "swing-up", "--kappa", "1"])
-    help_process = process_time(["ocp", "--help"])
+    solve_process = process_time([sys.executable, "-m", "ocp.cli", "solve", "swing-up", "--kappa", "1"])
+    help_process = process_time([sys.executable, "-m", "ocp.cli", "--help"])
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
     print(f"commit {commit}, Python {platform.python_version()}, {platform.machine()}, repeats {repeats}\n")
     print("| case | textbook (N=200) s | its \\|T - T*\\| | ocp.solve s | its \\|T - T*\\| (estimate) | ratio | search alone s |")

@@ -1,7 +1,8 @@
 """The published tables and figures (benchmarks/README.md, README.md, benchmarks/results/quick/,
 docs/figures/) are those of the code as it stands: each part of `python benchmarks/publish.py`
 records the commit it measured (benchmarks/results/published.json), and no later commit may change
-the measured code (`git log <recorded>..HEAD -- ocp/ <the part's script>`). When this fails, rerun
+the measured code (`git log <recorded>..HEAD -- ocp/ <the part's script>`, the data publish.py writes
+into ocp/ excepted). When this fails, rerun
 `python benchmarks/publish.py` on the committed code and commit what it writes.
 
 Needs git and the history back to the recorded commits (a clone with full history; a shallow CI
@@ -23,6 +24,8 @@ BLOCKS = {
     "direct-error": [("benchmarks/README.md", "direct-error")],
     "bench": [("benchmarks/README.md", "bench-run"), ("benchmarks/README.md", "bench-environment")],
     "figures": [("README.md", "figures")],
+    "speed": [("README.md", "search-speed"), ("README.md", "synthesis-speed")],
+    "bifurcation": [("README.md", "bifurcation")],
     "timings": [("README.md", "timings"), ("README.md", "verify-totals")],
 }
 

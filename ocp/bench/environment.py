@@ -4,11 +4,11 @@ import datetime
 import importlib.metadata
 import os
 import platform
-import subprocess
 from pathlib import Path
 
 import casadi as ca
 
+from ..core.provenance import git_commit
 from ..direct import INTEGRATORS
 from ..direct.nlp import available_solvers
 
@@ -33,24 +33,12 @@ def _cpu():
     return platform.processor() or platform.machine()
 
 
-def _git_commit():
-    """HEAD of the checkout ocp runs from, with "+dirty" when files differ from it; None outside git."""
-    root = Path(__file__).resolve().parents[2]
-    try:
-        head = subprocess.run(["git", "-C", root, "rev-parse", "HEAD"], capture_output=True, text=True, check=True)
-        dirty = subprocess.run(["git", "-C", root, "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True, check=True)
-    except (OSError, subprocess.CalledProcessError):
-        return None
-    return head.stdout.strip() + ("+dirty" if dirty.stdout.strip() else "")
-
-
 def environment():
     """Plain data: time (UTC), git commit, Python, package versions, CasADi plugins that load,
     CPU model, core count and load average (1, 5, 15 min)."""
     return {
         "time_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-        "git_commit": _git_commit(),
+        "git_commit": git_commit(),
         "python": platform.python_version(),
         "implementation": platform.python_implementation(),
         "platform": platform.platform(),

@@ -49,7 +49,8 @@ def plus_minus(value, error):
         return digits(value, error)
     places = decimals(error)
     unit = 10.0 ** -places
-    return f"{value:.{places}f} +- {math.ceil(round((error + unit / 2) / unit, 9)) * unit:.{places}f}"
+    covered = math.ceil(round((error + unit / 2) / unit, 9)) * unit
+    return f"{value:.{places}f} +- {covered:.{places}f}" if places <= 4 else f"{value:.{places}f} +- {order(covered)}"
 
 
 def order(error):

@@ -5,12 +5,13 @@ from pathlib import Path
 
 
 def git_commit():
-    """HEAD of the checkout ocp runs from, with "+dirty" when tracked files differ from it; None
-    outside a git checkout (an installed wheel)."""
+    """HEAD of the checkout ocp runs from, with "+dirty" when its code (ocp/, the data written into
+    it excepted) differs from it; None outside a git checkout (an installed wheel)."""
     root = Path(__file__).resolve().parents[2]
     try:
         head = subprocess.run(["git", "-C", root, "rev-parse", "HEAD"], capture_output=True, text=True, check=True)
-        dirty = subprocess.run(["git", "-C", root, "status", "--porcelain", "--untracked-files=no"],
+        dirty = subprocess.run(["git", "-C", root, "status", "--porcelain", "--untracked-files=no", "--", "ocp",
+                                ":(exclude)ocp/synthesis/data"],
                                capture_output=True, text=True, check=True)
     except (OSError, subprocess.CalledProcessError):
         return None

@@ -73,7 +73,7 @@ def format_table(rows):
         if r["reading"] == "circle":
             theta = math.remainder(theta, 2 * math.pi)
         lines.append(f"{r['case']:<20} {plus_minus(r['kappa'], r['error']):>24} {r['asymptote']:>8.4f} "
-                     f"{r['published'] or '-':>10}  ({theta:.6f}, {omega:.6f})")
+                     f"{r['published'] or '-':>10}  ({theta:.4f}, {omega:.4f})")
     for r in rows:
         lines.append(f"  {r['case']}: {r['mechanism']} (time-to-go {r['time_to_go']:.4f}); computed at "
                      f"{r['commit'] or 'an unknown commit'}")

@@ -4,7 +4,6 @@ coloured, the switching curves (switch points of optimal extremals) and the disp
 switches is born marked, for kappa just below and just above the value."""
 
 import math
-from fractions import Fraction
 
 import matplotlib.pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
@@ -54,7 +53,7 @@ def draw_map(s, marked=()):
     for theta, omega, label in marked:
         handles.append(ax.plot(theta, omega, "o", mfc="none", mec="#d62728", ms=11, mew=1.6)[0])
         labels.append(label)
-    pi_ticks(ax.xaxis, w.theta_lo, w.theta_hi, step=Fraction(1) if w.theta_hi - w.theta_lo > 8 else Fraction(1, 2))
+    pi_ticks(ax.xaxis, w.theta_lo, w.theta_hi)
     ax.set(xlim=(w.theta_lo, w.theta_hi), ylim=(w.omega_lo, w.omega_hi), xlabel=r"$\theta$ (rad; 0 hanging, π upright)",
            ylabel=r"$\omega$", title=f"{s.kind}, κ = {s.kappa:g}, on the {s.reading}: optimal switch count")
     ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7)

@@ -36,7 +36,9 @@ def draw_map(s, marked=()):
     """The figure of a Synthesis `s`; `marked`: states (theta, omega, label) to ring."""
     w = s.window
     top = max(3, int(s.N.max()) + 1)
-    cmap = ListedColormap(COUNT_COLOURS[:top + 2])
+    extra = top + 2 - len(COUNT_COLOURS)         # more switches than the named colours: darker purples
+    cmap = ListedColormap(COUNT_COLOURS[:top + 2] + [plt.get_cmap("Purples")(0.85 + 0.15 * k / extra)
+                                                     for k in range(1, extra + 1)])
     norm = BoundaryNorm(np.arange(-1.5, top + 1.5), cmap.N)
     fig, ax = plt.subplots(figsize=(7.2, 4.8))
     image = ax.imshow(s.N.T, origin="lower", extent=(w.theta_lo, w.theta_hi, w.omega_lo, w.omega_hi),

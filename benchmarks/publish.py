@@ -10,7 +10,7 @@ Parts (all by default, in this order):
                    ocp report benchmarks/results/quick.sqlite --out benchmarks/results/quick
                    -> the method and failure tables, the charts and the environment in
                       benchmarks/README.md; benchmarks/results/quick/ (charts, summary.md, results.csv)
-    figures        ocp figures --out docs/figures --format png --only (the six paper figures)
+    figures        ocp figures --out docs/figures --format png --only (the six paper figures, two maps)
                    -> the gallery of README.md
     speed          python benchmarks/search_speed.py; python benchmarks/synthesis_speed.py
                    -> the search against the textbook method, the maps against per-state solves
@@ -42,13 +42,17 @@ ROOT = Path(__file__).resolve().parents[1]
 MANIFEST = ROOT / "benchmarks" / "results" / "published.json"
 STORE = "benchmarks/results/quick.sqlite"
 REPORT = "benchmarks/results/quick"
-PAPER_FIGURES = ("finch-fig1", "finch-fig2", "finch-kappa-3-4", "batista-fig1", "pivot-histories", "pivot-chart")
+PAPER_FIGURES = ("finch-fig1", "finch-fig2", "finch-kappa-3-4", "batista-fig1", "pivot-histories", "pivot-chart",
+                 "synthesis-swing-up-circle-0.29", "synthesis-swing-up-plane-1.0")
 #: part -> the files besides ocp/ whose change makes its results stale
 MEASURED = {"direct-error": ["benchmarks/direct_error.py"], "bench": [], "figures": [],
             "speed": ["benchmarks/search_speed.py", "benchmarks/synthesis_speed.py"], "bifurcation": [],
             "timings": []}
-#: the measured code: ocp/ without the data this script writes into it
+#: the measured code: ocp/ without the data this script writes into it; the bifurcation values
+#: rest on the layers below the benchmark (the model, the search, the synthesis) and the command
 CODE = ["ocp/", ":(exclude)ocp/synthesis/data"]
+CODE_OF = {"bifurcation": ["ocp/core/", "ocp/exact/", "ocp/indirect/", "ocp/synthesis/", "ocp/cli.py",
+                           ":(exclude)ocp/synthesis/data"]}
 BIFURCATION_STORE = "benchmarks/results/bifurcation.jsonl"
 BIFURCATION_DATA = "ocp/synthesis/data/bifurcation.jsonl"
 PARTS = tuple(MEASURED)
@@ -162,7 +166,8 @@ def figures(commit):
     shown = "ocp figures --out docs/figures --format png " + " ".join(only)
     seconds, _ = run(ocp_command("figures", "--out", "docs/figures", "--format", "png", *only), shown)
     record = {"commit": commit, "command": shown, "seconds": seconds, "environment": environment()}
-    wrapped = shown.replace(" --only finch-kappa-3-4", " \\\n        --only finch-kappa-3-4")
+    wrapped = shown.replace(" --only finch-kappa-3-4", " \\\n        --only finch-kappa-3-4").replace(
+        " --only synthesis-swing-up-circle-0.29", " \\\n        --only synthesis-swing-up-circle-0.29")
     replace_block(ROOT / "README.md", "figures", f"    {wrapped}\n\n{stamp(record)}")
     return record
 
@@ -259,7 +264,7 @@ def main():
         else:
             records[part] = timings(commit, records, args.time_tests, previous)
     manifest = {**previous, **records}
-    manifest = {p: dict(manifest[p], measured=[*CODE, *MEASURED[p]]) for p in PARTS if p in manifest}
+    manifest = {p: dict(manifest[p], measured=[*CODE_OF.get(p, CODE), *MEASURED[p]]) for p in PARTS if p in manifest}
     MANIFEST.write_text(json.dumps(manifest, indent=1) + "\n")
     print(f"publish: wrote {MANIFEST.relative_to(ROOT)} ({', '.join(records)} at {commit[:12]}); commit the results",
           file=sys.stderr)

@@ -66,8 +66,8 @@ def test_the_published_files_exist(manifest):
     assert charts and all((ROOT / "benchmarks" / c).is_file() for c in charts)
     for name in ("summary.md", "results.csv"):
         assert (ROOT / "benchmarks/results/quick" / name).is_file()
-    figures = re.findall(r"--only ([\w-]+)", block("README.md", "figures"))
-    assert len(figures) == 6 and all((ROOT / "docs/figures" / f"{f}.png").is_file() for f in figures)
+    figures = re.findall(r"--only ([\w.-]+)", block("README.md", "figures"))
+    assert len(figures) == 8 and all((ROOT / "docs/figures" / f"{f}.png").is_file() for f in figures)
 
 
 @pytest.mark.skipif(not in_git_work_tree(), reason="not a git work tree: no history to compare the results with")

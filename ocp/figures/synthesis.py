@@ -20,6 +20,8 @@ MAPS = (
     ("synthesis-swing-up-circle-0.81", "swing-up", "circle", 0.81, (-math.pi, math.pi, -3.0, 3.0), 10.0),
     ("synthesis-swing-up-circle-0.42", "swing-up", "circle", 0.42, (-math.pi, math.pi, -3.0, 3.0), 16.0),
     ("synthesis-swing-up-circle-0.45", "swing-up", "circle", 0.45, (-math.pi, math.pi, -3.0, 3.0), 16.0),
+    ("synthesis-swing-up-circle-0.29", "swing-up", "circle", 0.29, (-math.pi, math.pi, -3.0, 3.0), 20.0),
+    ("synthesis-swing-up-circle-0.31", "swing-up", "circle", 0.31, (-math.pi, math.pi, -3.0, 3.0), 20.0),
     ("synthesis-damping-circle-1.0", "damping", "circle", 1.0, (-math.pi, math.pi, -12.0, 12.0), 14.0),
     ("synthesis-damping-circle-1.1", "damping", "circle", 1.1, (-math.pi, math.pi, -12.0, 12.0), 14.0),
     ("synthesis-swing-up-plane-1.0", "swing-up", "plane", 1.0, (-3 * math.pi, 5 * math.pi, -6.0, 6.0), 12.0),

@@ -33,6 +33,9 @@ CASES = (
          "maps: 3 switches near the origin at kappa = 0.42, none at 0.44; least gap at psi = 2.4550"),
     Case("swing-up", "circle", 3, 0.25, 0.30, 5.50, 5.65,
          "maps: 4 switches near the origin at kappa = 0.25, none at 0.30; least gap at psi = 5.5873"),
+    Case("swing-up", "circle", 4, 0.22, 0.235, 2.39, 2.45,
+         "maps: 5 switches near the origin at kappa = 0.22, none at 0.235 (401 x 241 cells over [-pi, pi] x "
+         "[-3, 3], horizon 32); least gap at psi = 2.4070 at kappa = 0.22"),
     Case("damping", "circle", 1, 1.0, 1.04, 2.15, 2.30,
          "least gap: negative at kappa = 1.0 (psi = 2.235, a switch point at omega = 7.3), positive at 1.04"),
 )

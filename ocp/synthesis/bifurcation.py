@@ -168,15 +168,14 @@ def least_gap(kind, kappa, reading, n, psi_lo, psi_hi, accuracy=taylor.PRECISE, 
 
 def root_in_kappa(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, accuracy=taylor.PRECISE, xtol=1e-10,
                   ktol=1e-12, trace=None, samples=24):
-    """kappa_n: the root of the least gap m(kappa) in [kappa_lo, kappa_hi] (m < 0 at kappa_lo,
-    > 0 at kappa_hi), the psi window [psi_lo, psi_hi] re-centred on each minimiser. Returns
-    (kappa, psi, label)."""
-    width = 0.5 * (psi_hi - psi_lo)
+    """kappa_n: the root of the least gap m(kappa) over the case's window [psi_lo, psi_hi] of final
+    costate angles in [kappa_lo, kappa_hi] (m < 0 at kappa_lo, > 0 at kappa_hi). The window stays
+    fixed: followed from one kappa to the next it drifted to angles whose switch lies 50 time units
+    upstream, where every gap costs a long search. Returns (kappa, psi, label) at the root."""
     state = {"psi": 0.5 * (psi_lo + psi_hi), "label": None}
 
     def m(kappa):
-        value, psi, label = least_gap(kind, kappa, reading, n, state["psi"] - width, state["psi"] + width,
-                                      accuracy, xtol, samples)
+        value, psi, label = least_gap(kind, kappa, reading, n, psi_lo, psi_hi, accuracy, xtol, samples)
         if label is not None:                     # the last angle where the switch is crossed
             state.update(psi=psi, label=label)
         if trace:

@@ -36,6 +36,9 @@ CASES = (
     Case("swing-up", "circle", 4, 0.22, 0.235, 2.39, 2.45,
          "maps: 5 switches near the origin at kappa = 0.22, none at 0.235 (401 x 241 cells over [-pi, pi] x "
          "[-3, 3], horizon 32); least gap at psi = 2.4070 at kappa = 0.22"),
+    Case("swing-up", "circle", 5, 0.18, 0.19, 2.38, 2.45,
+         "maps: 6 switches near the origin at kappa = 0.18, none at 0.19 (401 x 241 cells over [-pi, pi] x "
+         "[-3, 3], horizon 32); least gap at psi = 2.4070 at kappa = 0.18"),
     Case("damping", "circle", 1, 1.0, 1.04, 2.15, 2.30,
          "least gap: negative at kappa = 1.0 (psi = 2.235, a switch point at omega = 7.3), positive at 1.04"),
 )

@@ -49,9 +49,9 @@ MEASURED = {"direct-error": ["benchmarks/direct_error.py"], "bench": [], "figure
             "speed": ["benchmarks/search_speed.py", "benchmarks/synthesis_speed.py"], "bifurcation": [],
             "timings": []}
 #: the measured code: ocp/ without the data this script writes into it; the bifurcation values
-#: rest on the layers below the benchmark (the model, the search, the synthesis) and the command
+#: rest on the layers below the benchmark (the model, the search, the synthesis)
 CODE = ["ocp/", ":(exclude)ocp/synthesis/data"]
-CODE_OF = {"bifurcation": ["ocp/core/", "ocp/exact/", "ocp/indirect/", "ocp/synthesis/", "ocp/cli.py",
+CODE_OF = {"bifurcation": ["ocp/core/", "ocp/exact/", "ocp/indirect/", "ocp/synthesis/",
                            ":(exclude)ocp/synthesis/data"]}
 BIFURCATION_STORE = "benchmarks/results/bifurcation.jsonl"
 BIFURCATION_DATA = "ocp/synthesis/data/bifurcation.jsonl"

@@ -49,10 +49,12 @@ MEASURED = {"direct-error": ["benchmarks/direct_error.py"], "bench": [], "figure
             "speed": ["benchmarks/search_speed.py", "benchmarks/synthesis_speed.py"], "bifurcation": [],
             "timings": []}
 #: the measured code: ocp/ without the data this script writes into it; the bifurcation values
-#: rest on the layers below the benchmark (the model, the search, the synthesis)
+#: and the N-sweep rest on the layers they run (the model, the search, the synthesis; the direct
+#: transcriptions and the formulas)
 CODE = ["ocp/", ":(exclude)ocp/synthesis/data"]
 CODE_OF = {"bifurcation": ["ocp/core/", "ocp/exact/", "ocp/indirect/", "ocp/synthesis/",
-                           ":(exclude)ocp/synthesis/data"]}
+                           ":(exclude)ocp/synthesis/data"],
+           "direct-error": ["ocp/__init__.py", "ocp/core/", "ocp/direct/", "ocp/exact/"]}
 BIFURCATION_STORE = "benchmarks/results/bifurcation.jsonl"
 BIFURCATION_DATA = "ocp/synthesis/data/bifurcation.jsonl"
 PARTS = tuple(MEASURED)

@@ -52,7 +52,7 @@ def _ocp(problem, method, T_guess):
     options = {"expand": True, "print_time": False}
     if method.solver == "ipopt":
         options.update({"ipopt.print_level": 0, "ipopt.sb": "yes"})
-    oc.solver(method.solver, dict(options, **method.options))
+    oc.solver(method.solver, dict(options, **method.applied))
     return oc, (theta, omega, u)
 
 

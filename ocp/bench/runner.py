@@ -101,8 +101,8 @@ def _solve_once(case, method, miss_tol):
     if method.transcription == PEER:
         return peer.solve(problem, method, guess, miss_tol)
     settings = method.transcription_object()
-    sol = direct.solve(problem, settings, method.solver, method.options, guess, miss_tol)
-    built = direct.nlp.build(settings, method.solver, method.options, problem.reading)
+    sol = direct.solve(problem, settings, method.solver, method.applied, guess, miss_tol)
+    built = direct.nlp.build(settings, method.solver, method.applied, problem.reading)
     return sol, (built.n_w, built.n_g)
 
 
@@ -360,7 +360,8 @@ def _run(suite, store, pool, workers, executor_name, session, notes):
         timing = {"executor": executor_name, "workers": workers, "parallel": workers > 1,
                   "concurrent_sessions": others, "note": timing_note(workers, others)}
         rec.update(suite=suite.name, case=case.key, method=method.key, case_label=case.label,
-                   family=method.family, label=method.label, N=method.N, problem=case.problem_key,
+                   family=method.family, label=method.label, N=method.N, configuration=method.configuration,
+                   options=method.applied, problem=case.problem_key,
                    guess="default" if case.guess is None else case.guess, **suite.settings, timing=timing)
         store.add_result(case.key, method.key, session, rec, settings, started)
         records.append(rec)

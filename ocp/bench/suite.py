@@ -19,8 +19,11 @@ these" and the table expands to the Cartesian product of its lists:
     integrator = "rk4"                    # or "extremal-search" (ocp.solve's complete search alone)
     N = [25, 50, 100]
     solver = ["ipopt", "fatrop"]
-    options = { ipopt = { "ipopt.tol" = 1e-10 } }   # per solver, passed to casadi.nlpsol untouched
-                                                    # (options that run a program or touch a file are refused)
+    configuration = ["default", "fair"]   # the solver's defaults, or its fair configuration
+                                          # (ocp.bench.configurations)
+    options = { ipopt = { "ipopt.tol" = 1e-10 } }   # per solver, over the configuration's, passed to
+                                                    # casadi.nlpsol untouched (options that run a
+                                                    # program or touch a file are refused)
 
 Every value is checked when the file is read (`load`): its type (a string is not a number), its
 range, the name (it names the default store, so it cannot leave the working folder), and the size
@@ -48,6 +51,7 @@ from ..core import problem as problems
 from ..core.errors import Fault, InputError, finite, integer, short
 from ..direct.nlp import SOLVER_NAME
 from ..direct.options import checked
+from . import configurations
 
 PEER = "rockit"
 SEARCH = "extremal-search"
@@ -118,7 +122,7 @@ class Case:
 @dataclass(frozen=True)
 class Method:
     """A direct transcription (a key of `ocp.direct.TRANSCRIPTIONS` with its settings), an NLP
-    solver with its options; or "rockit", the peer (its own multiple shooting, integrator "rk", M
+    solver in a configuration (`ocp.bench.configurations`) with options over it; or "rockit", the peer (its own multiple shooting, integrator "rk", M
     steps per interval); or "extremal-search", ocp.solve's complete search of extremals (no N, no
     solver). Only the settings given are stored (`settings`); each must apply."""
 
@@ -126,6 +130,7 @@ class Method:
     settings: tuple = ()
     solver: str = "ipopt"
     options: dict = field(default_factory=dict)
+    configuration: str = configurations.DEFAULT
 
     def __post_init__(self):
         if not isinstance(self.solver, str) or not SOLVER_NAME.fullmatch(self.solver):
@@ -133,12 +138,19 @@ class Method:
                              f"name (lower-case letters, digits, _), e.g. ipopt")
         if self.transcription not in KINDS_OF_METHOD:
             raise InputError(f"unknown transcription {self.transcription!r}; accepted: {', '.join(KINDS_OF_METHOD)}")
-        if self.transcription == SEARCH and (self.settings or self.options or self.solver != "ipopt"):
-            raise InputError("the extremal search takes no transcription settings, solver or options")
+        if self.transcription == SEARCH and (self.settings or self.options or self.solver != "ipopt"
+                                             or self.configuration != configurations.DEFAULT):
+            raise InputError("the extremal search takes no transcription settings, solver, configuration or options")
         if self.transcription == PEER and set(self.given) - {"N", "M"}:
             raise InputError(f"the rockit peer takes N and M only, not {sorted(set(self.given) - {'N', 'M'})}")
         checked(self.options, where=f"options of {self.transcription} / {self.solver}")
+        self.applied                         # validates the configuration
         self.transcription_object()          # validates the settings
+
+    @property
+    def applied(self):
+        """The options passed to casadi.nlpsol: the configuration's, `options` over them."""
+        return configurations.options(self.solver, self.configuration) | self.options
 
     @property
     def given(self):
@@ -164,7 +176,9 @@ class Method:
         t = self.transcription_object()
         d = {"transcription": self.transcription}
         if t is not None:
-            d.update(t.to_dict(), transcription=self.transcription, solver=self.solver, options=self.options)
+            d.update(t.to_dict(), transcription=self.transcription, solver=self.solver, options=self.applied)
+            if self.configuration != configurations.DEFAULT:     # keys of default rows as before configurations
+                d["configuration"] = self.configuration
         return d
 
     @property
@@ -179,6 +193,7 @@ class Method:
         t = self.transcription_object()
         name = f"rockit MS rk M={t.M}" if self.transcription == PEER else t.family()
         name += f" / {self.solver}"
+        name += "" if self.configuration == configurations.DEFAULT else f" [{self.configuration}]"
         return name + (f" {_key(self.options)}" if self.options else "")
 
     @property
@@ -281,7 +296,7 @@ def _plain(value, name, depth=0):
 
 def _method(d):
     settings = {f.name: f.type for c in direct.TRANSCRIPTIONS.values() for f in fields(c)}
-    names = {"transcription", "solver", "options"} | set(settings)
+    names = {"transcription", "solver", "options", "configuration"} | set(settings)
     if set(d) - names:
         raise InputError(f"unknown method field(s) {sorted(set(d) - names)}; accepted: {', '.join(sorted(names))}")
     for key, value in d.items():
@@ -295,8 +310,10 @@ def _method(d):
     if not isinstance(options, dict) or not all(isinstance(v, dict) for v in options.values()):
         raise InputError(f"options = {short(options)} must be a table per solver, e.g. options = {{ ipopt = {{ \"ipopt.tol\" = 1e-10 }} }}")
     _plain(options, "options")
+    configuration = _typed("configuration", d.get("configuration", configurations.DEFAULT), (str,),
+                           f"one of: {', '.join(configurations.CONFIGURATIONS)}")
     given = tuple(sorted((k, v) for k, v in d.items() if k in settings))
-    return Method(transcription, given, solver, options.get(solver, {}))
+    return Method(transcription, given, solver, options.get(solver, {}), configuration)
 
 
 def _read(path):

@@ -152,7 +152,8 @@ def markdown(rows):
     return "\n".join(lines) + "\n"
 
 
-def _slug(text):
+def slug(text):
+    """`text` as a file name: lower-case letters and digits, runs of anything else one "-"."""
     return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
 
 
@@ -255,7 +256,7 @@ def work_precision(records, out_dir, formats):
             ax.set_ylabel("|T - T*|   (T*: the complete search's optimum)")
             ax.set_title(f"work precision: {case}")
             ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
-            paths += plotting.save(fig, Path(out_dir) / f"work_precision_{_slug(case)}", formats)
+            paths += plotting.save(fig, Path(out_dir) / f"work_precision_{slug(case)}", formats)
     return paths
 
 

@@ -35,11 +35,23 @@ def map_data(kind, reading, kappa, window, horizon, resolution=(601, 361)):
 
 def draw_map(s, marked=()):
     """The figure of a Synthesis `s`; `marked`: states (theta, omega, label) to ring."""
+    fig, ax = plt.subplots(figsize=(7.2, 4.8))
+    handles, labels = draw_layers(fig, ax, s)
+    for theta, omega, label in marked:
+        handles.append(ax.plot(theta, omega, "o", mfc="none", mec="#d62728", ms=11, mew=1.6)[0])
+        labels.append(label)
+    ax.set_title(f"{s.kind}, κ = {s.kappa:g}, on the {s.reading}: optimal switch count")
+    ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7)
+    return fig
+
+
+def draw_layers(fig, ax, s):
+    """The switch counts of a Synthesis `s` coloured on `ax`, its dispersal and switching curves, the
+    axes; returns the legend's (handles, labels) of the curves."""
     w = s.window
     top = max(3, int(s.N.max()) + 1)
     cmap = ListedColormap(COUNT_COLOURS[:top + 2])
     norm = BoundaryNorm(np.arange(-1.5, top + 1.5), cmap.N)
-    fig, ax = plt.subplots(figsize=(7.2, 4.8))
     image = ax.imshow(s.N.T, origin="lower", extent=(w.theta_lo, w.theta_hi, w.omega_lo, w.omega_hi),
                       aspect="auto", cmap=cmap, norm=norm, interpolation="nearest")
     bar = fig.colorbar(image, ax=ax, ticks=range(-1, top + 1))
@@ -51,11 +63,7 @@ def draw_map(s, marked=()):
         ax.plot(s.switch_points[:, 0], s.switch_points[:, 1], ".", color="#08306b", ms=1.0)
     handles = [ax.plot([], [], "s", color="black", ms=3)[0], ax.plot([], [], ".", color="#08306b")[0]]
     labels = ["dispersal curve (two optimal controls tie)", "switching curve (switch points of optimal extremals)"]
-    for theta, omega, label in marked:
-        handles.append(ax.plot(theta, omega, "o", mfc="none", mec="#d62728", ms=11, mew=1.6)[0])
-        labels.append(label)
     pi_ticks(ax.xaxis, w.theta_lo, w.theta_hi, step=Fraction(1) if w.theta_hi - w.theta_lo > 8 else Fraction(1, 2))
     ax.set(xlim=(w.theta_lo, w.theta_hi), ylim=(w.omega_lo, w.omega_hi), xlabel=r"$\theta$ (rad; 0 hanging, π upright)",
-           ylabel=r"$\omega$", title=f"{s.kind}, κ = {s.kappa:g}, on the {s.reading}: optimal switch count")
-    ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7)
-    return fig
+           ylabel=r"$\omega$")
+    return handles, labels

@@ -59,6 +59,7 @@ def test_bench_stores_every_row_resumes_and_reports(tiny, tmp_path, capsys):
     assert ok["outcome"] == "ok" and ok["ref_source"].startswith("one-switch swing-up (Finch 2015)")
     assert 0 < abs(ok["T_minus_ref"]) <= ok["T_error"] and ok["timing"]["parallel"]
     assert ok["n_w"] > 0 and ok["build_time_s"] > 0 and len(ok["switch_time_errors"]) == 1
+    assert ok["peak_rss_mib"] > 10 and ok["peak_rss_scope"] == "this run"
     assert rows[("swing-up kappa=1", "DC radau3 / fatrop N=20")]["outcome"] == "build error"
     assert rows[("swing-up kappa=1", "MS rk4 M=4 / feasiblesqpmethod N=20")]["outcome"] == "not converged"
     assert rows[("swing-up kappa=1 guess#3", "MS rk4 M=4 / ipopt N=20")]["success"]
@@ -115,6 +116,16 @@ def test_a_fair_configuration_reaches_the_solver():
     assert fair.key != default.key and fair.label == "MS rk4 M=4 / blocksqp [fair] N=20"
     assert "configuration" not in default.to_dict() and default.to_dict()["options"] == {}   # keys as before
     assert suite.Method(solver="ipopt", options={"ipopt.tol": 1e-6}, configuration="fair").applied["ipopt.tol"] == 1e-6
+
+
+def test_peak_memory_is_of_the_run():
+    """The high-water mark is reset before each run: a large array freed before it does not count."""
+    import numpy as np
+    big = np.ones(2**25)                  # 256 MiB
+    high = runner.peak_rss()[0]
+    del big
+    runner.reset_peak_rss()
+    assert runner.peak_rss() == (pytest.approx(runner.peak_rss()[0]), "this run") and runner.peak_rss()[0] < high - 200
 
 
 def test_outcome_against_the_search_reference():

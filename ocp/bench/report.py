@@ -3,7 +3,8 @@
     method table        per method family (a method without its N): runs, success rate, rate of
                         reaching the best known optimum (all guesses; random guesses alone; runs
                         of a method that states no accuracy cannot be judged and are counted
-                        apart), median |T - T_ref| and median total time
+                        apart), median |T - T_ref|, median total time and median peak
+                        resident memory of the worker during a run (`runner.peak_rss`)
     failure table       per family and outcome class (`ocp.bench.runner.OUTCOMES`), with the
                         cases and a status; every failing row is counted, none is left out
     work precision      per case (default guess): |T - T_ref| against the median total time, one
@@ -105,6 +106,7 @@ def method_table(records, best):
             "reached optimum (random guesses)": _rate(reached(r, best) for r in random),
             "median |T - T_ref|": _median([abs(r["T_minus_ref"]) for r in runs if r["outcome"] in GOOD], ".1e"),
             "median total time (s)": _median([r["total_time_s"] for r in runs if r["outcome"] != "build error"], ".3f"),
+            "median peak memory (MiB)": _median([r.get("peak_rss_mib") for r in runs], ".0f"),
         })
     return rows
 

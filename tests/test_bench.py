@@ -2,6 +2,7 @@
 the Dask executor on a loopback cluster, the peer's skip note, and one-line errors (exit 2)."""
 
 import json
+import math
 import sqlite3
 
 import pytest
@@ -126,6 +127,17 @@ def test_peak_memory_is_of_the_run():
     del big
     runner.reset_peak_rss()
     assert runner.peak_rss() == (pytest.approx(runner.peak_rss()[0]), "this run") and runner.peak_rss()[0] < high - 200
+
+
+def test_rockit_free_grid_misses_the_target():
+    """Issue 15: rockit's FreeGrid reports success, but its control re-simulated on the grid it solved
+    misses the target (its RK steps stretch with the intervals): the row is "misses target"."""
+    pytest.importorskip("rockit")
+    case = suite.Case("swing-up", 1.0, guess=1)
+    method = suite.Method("rockit-freegrid", (("M", 4), ("N", 10)))
+    row = runner.score(runner.measure(case, method), runner.reference(case), case, math.inf)
+    assert method.label == "rockit MS rk M=4 free grid / ipopt N=10"
+    assert row["outcome"] == "misses target" and row["solver_message"] == "Solve_Succeeded" and row["resim_miss"] > 1e-4
 
 
 def test_outcome_against_the_search_reference():

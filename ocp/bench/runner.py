@@ -38,7 +38,7 @@ from ..result import DirectClass
 from ..solving import classify, solve
 from . import peer
 from .store import process_alive
-from .suite import PEER, SEARCH
+from .suite import PEERS, SEARCH
 
 #: a formula and the search agree when their T differ by less than this
 AGREE = 1e-9
@@ -98,7 +98,7 @@ def _solve_once(case, method, miss_tol):
     if method.transcription == SEARCH:
         return solve(problem), (0, 0)
     guess = case.initial_guess(method.N)
-    if method.transcription == PEER:
+    if method.transcription in PEERS:
         return peer.solve(problem, method, guess, miss_tol)
     settings = method.transcription_object()
     sol = direct.solve(problem, settings, method.solver, method.applied, guess, miss_tol)
@@ -336,7 +336,7 @@ def run(suite, store, pool, workers, executor_name, environment):
     skipped, with a note, when rockit is not installed. Returns {session, executor, records (of
     this session), resumed (pairs already stored), claimed_elsewhere, notes}."""
     notes = []
-    if not peer.available() and any(m.transcription == "rockit" for m in suite.methods):
+    if not peer.available() and any(m.transcription in PEERS for m in suite.methods):
         notes.append(peer.MISSING)
     session = store.open_session(suite.name, executor_name, environment)
     try:
@@ -364,7 +364,7 @@ def _run(suite, store, pool, workers, executor_name, session, notes):
     settings = suite.settings_key
     done = store.done(settings)
     todo = [(c, m) for c, m in suite.pairs() if (c.key, m.key) not in done
-            and (m.transcription != "rockit" or not notes)]
+            and (m.transcription not in PEERS or not notes)]
     records, skipped = [], {"stored": 0, "claimed": 0}
     progress = Progress(len(todo), "runs")
 

@@ -15,7 +15,8 @@ these" and the table expands to the Cartesian product of its lists:
     guess = ["default", 1, 2]        # "default": ocp's three starts; an integer: a seeded random Guess
 
     [[methods]]
-    transcription = "multiple-shooting"   # a key of ocp.direct.TRANSCRIPTIONS, "rockit" (the peer),
+    transcription = "multiple-shooting"   # a key of ocp.direct.TRANSCRIPTIONS, "rockit" or
+                                          # "rockit-freegrid" (the peer),
     integrator = "rk4"                    # or "extremal-search" (ocp.solve's complete search alone)
     N = [25, 50, 100]
     solver = ["ipopt", "fatrop"]
@@ -54,10 +55,12 @@ from ..direct.options import checked
 from . import configurations
 
 PEER = "rockit"
+PEER_FREE_GRID = "rockit-freegrid"      # the peer on rockit's FreeGrid: each interval's length a variable
+PEERS = (PEER, PEER_FREE_GRID)
 SEARCH = "extremal-search"
 SEARCH_FAMILY = "extremal search"           # its family (`Method.family`): the only one without an N
 #: what a method row may be: a direct transcription of ocp, the peer, or the search
-KINDS_OF_METHOD = (*direct.TRANSCRIPTIONS, PEER, SEARCH)
+KINDS_OF_METHOD = (*direct.TRANSCRIPTIONS, *PEERS, SEARCH)
 
 #: limits of a suite: a file of at most MAX_BYTES, at most MAX_PAIRS cases, methods and pairs, at
 #: most MAX_RUNS solves (pairs x repeats)
@@ -122,9 +125,10 @@ class Case:
 @dataclass(frozen=True)
 class Method:
     """A direct transcription (a key of `ocp.direct.TRANSCRIPTIONS` with its settings), an NLP
-    solver in a configuration (`ocp.bench.configurations`) with options over it; or "rockit", the peer (its own multiple shooting, integrator "rk", M
-    steps per interval); or "extremal-search", ocp.solve's complete search of extremals (no N, no
-    solver). Only the settings given are stored (`settings`); each must apply."""
+    solver in a configuration (`ocp.bench.configurations`) with options over it; or "rockit", the
+    peer (its own multiple shooting, integrator "rk", M steps per interval), "rockit-freegrid" (the
+    same on rockit's FreeGrid); or "extremal-search", ocp.solve's complete search of extremals (no
+    N, no solver). Only the settings given are stored (`settings`); each must apply."""
 
     transcription: str = "multiple-shooting"
     settings: tuple = ()
@@ -141,7 +145,7 @@ class Method:
         if self.transcription == SEARCH and (self.settings or self.options or self.solver != "ipopt"
                                              or self.configuration != configurations.DEFAULT):
             raise InputError("the extremal search takes no transcription settings, solver, configuration or options")
-        if self.transcription == PEER and set(self.given) - {"N", "M"}:
+        if self.transcription in PEERS and set(self.given) - {"N", "M"}:
             raise InputError(f"the rockit peer takes N and M only, not {sorted(set(self.given) - {'N', 'M'})}")
         checked(self.options, where=f"options of {self.transcription} / {self.solver}")
         self.applied                         # validates the configuration
@@ -163,7 +167,7 @@ class Method:
         """The ocp transcription (for rockit: the equivalent multiple shooting), None for the search."""
         if self.transcription == SEARCH:
             return None
-        if self.transcription == PEER:
+        if self.transcription in PEERS:
             return direct.MultipleShooting(**self.given)
         return direct.make(self.transcription, **self.given)
 
@@ -191,7 +195,8 @@ class Method:
         if self.transcription == SEARCH:
             return SEARCH_FAMILY
         t = self.transcription_object()
-        name = f"rockit MS rk M={t.M}" if self.transcription == PEER else t.family()
+        name = t.family() if self.transcription not in PEERS else f"rockit MS rk M={t.M}" + (
+            " free grid" if self.transcription == PEER_FREE_GRID else "")
         name += f" / {self.solver}"
         name += "" if self.configuration == configurations.DEFAULT else f" [{self.configuration}]"
         return name + (f" {_key(self.options)}" if self.options else "")

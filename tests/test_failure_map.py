@@ -45,6 +45,15 @@ def test_the_map_is_stored_and_drawn(tiny, tmp_path):
         assert plotting.save(draw_grid(tiny, s), tmp_path / "map", ("png",))[0].stat().st_size > 0
 
 
+def test_a_sweep_over_kappa_from_the_command_line(tmp_path, capsys):
+    assert cli.main(["failure-map", "swing-up", "--kappa", "0.9", "1.1", "--sweep", "2", "--out", str(tmp_path),
+                     "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["axes"] == {"kappa": [0.9, 1.1, 2]} and sum(out["outcomes"].values()) == 2
+    assert sorted(p.rsplit(".", 1)[-1] for p in out["files"]) == ["npz", "png"]
+    assert all((tmp_path / p.rsplit("/", 1)[-1]).stat().st_size > 0 for p in out["files"])
+
+
 @pytest.mark.parametrize("argv, words", [
     (["--kappa", "1", "--grid", "1", "5"], "grid = '1'"),
     (["--kappa", "0.5", "1"], "kappa: one value"),

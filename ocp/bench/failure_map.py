@@ -22,7 +22,7 @@ import numpy as np
 from ..core.files import replacing
 from ..direct import MISS_TOL
 from . import runner
-from .report import slug
+from .report import reason, slug
 from .suite import Case
 
 OUTCOMES = runner.OUTCOMES
@@ -54,10 +54,10 @@ class FailureMap:
 
 
 def cell(case, method, miss_tol=MISS_TOL):
-    """(outcome, T, T_ref, reason) of one case: the bench's reference, measure and score."""
+    """(outcome, T, T_ref, reason) of one case: the bench's reference, measure and score, and the
+    failure table's reason (`report.reason`)."""
     row = runner.score(runner.measure(case, method, 1, miss_tol), runner.reference(case), case, math.inf)
-    reason = "" if row["outcome"] == "ok" else ": ".join(p for p in (row.get("solver_message"), row["message"]) if p)
-    return row["outcome"], row.get("T"), row["T_ref"], reason
+    return row["outcome"], row.get("T"), row["T_ref"], "" if row["outcome"] == "ok" else reason(row)
 
 
 def _run(kind, kappa, x0, axes, method, cases, pool, workers, progress):
@@ -68,17 +68,17 @@ def _run(kind, kappa, x0, axes, method, cases, pool, workers, progress):
     progress = progress or runner.Progress(len(cases), "cells", io.StringIO())
     outcome = np.zeros(len(cases), dtype=np.int64)
     T, T_ref = np.full(len(cases), np.nan), np.full(len(cases), np.nan)
-    reason = np.full(len(cases), "", dtype=object)
+    reasons = np.full(len(cases), "", dtype=object)
 
     def handle(i, result):
-        name, T[i], T_ref[i], reason[i] = (np.nan if v is None else v for v in result)
+        name, T[i], T_ref[i], reasons[i] = (np.nan if v is None else v for v in result)
         outcome[i] = OUTCOMES.index(name)
         return f"{cases[i].label}: {name}"
 
     runner.drain(pool, workers, [(cell, (c, method), i) for i, c in enumerate(cases)], handle, progress)
     shape = tuple(len(v) for v in axes.values())
     return FailureMap(kind, method.to_dict(), method.label, kappa, x0, axes, outcome.reshape(shape), T.reshape(shape),
-                      T_ref.reshape(shape), reason.astype(str).reshape(shape), time.perf_counter() - start)
+                      T_ref.reshape(shape), reasons.astype(str).reshape(shape), time.perf_counter() - start)
 
 
 def grid(kind, kappa, method, window, pool=None, workers=1, progress=None):

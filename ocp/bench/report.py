@@ -120,11 +120,11 @@ def failure_table(records):
     return [{"method": family, "outcome": outcome, "runs": len(runs),
              "N": " ".join(str(n) for n in sorted({r["N"] for r in runs})),
              "cases": "; ".join(dict.fromkeys(r["case_label"] for r in runs)),
-             "status (first)": _status(runs[0])[:160]}
+             "status (first)": reason(runs[0])[:160]}
             for (family, outcome), runs in groups.items()]
 
 
-def _status(r):
+def reason(r):
     """How a run ended, in words: the solver's own message and the suite's (with the re-simulated
     miss when the control misses the target)."""
     parts = [r.get("solver_message"), r.get("message") or r["status"]]

@@ -165,6 +165,49 @@ def _run_figures(args):
     return 0
 
 
+def _add_window(p, grid, what):
+    """--window, --grid (default `grid`, of `what`) and --horizon of a map of the phase plane."""
+    p.add_argument("--window", nargs=4, metavar=("THETA_LO", "THETA_HI", "OMEGA_LO", "OMEGA_HI"),
+                   default=["-3.141592653589793", "3.141592653589793", "-3", "3"], help="default [-pi, pi] x [-3, 3]")
+    p.add_argument("--grid", nargs=2, metavar=("N_THETA", "N_OMEGA"), default=[str(g) for g in grid],
+                   help=f"{what}, default {grid[0]} {grid[1]}")
+    p.add_argument("--horizon", default="12", help="longest time-to-go of the synthesis drawn, default 12")
+
+
+def _window(args, low, high):
+    """(Window of --window and --grid, each count from `low` to `high`; --horizon), checked."""
+    from .core.errors import finite, integer
+    from .synthesis.field import Window
+
+    lo_t, hi_t, lo_w, hi_w = (finite("window", v, "four numbers, |theta| <= 1000, |omega| <= 50", -1000, 1000)
+                              for v in args.window)
+    if not (lo_t < hi_t and lo_w < hi_w and max(abs(lo_w), abs(hi_w)) <= 50):
+        raise InputError("window: THETA_LO < THETA_HI and OMEGA_LO < OMEGA_HI, |omega| <= 50")
+    grid = [integer("grid", g, f"two integers from {low} to {high}", low, high) for g in args.grid]
+    return (Window(lo_t, hi_t, lo_w, hi_w, *grid),
+            finite("horizon", args.horizon, "a number of time units from 0.1 to 60", 0.1, 60))
+
+
+def _problem_kappas(args):
+    """The kappas of --kappa (each in the accepted range), the problem checked."""
+    from .core.errors import finite
+    from .core.problem import KINDS, KAPPA_RANGE
+
+    if args.problem not in KINDS:
+        raise InputError(f"unknown problem {args.problem!r}; accepted: {', '.join(KINDS)}")
+    return [finite("kappa", k, f"numbers from {KAPPA_RANGE[0]:g} to {KAPPA_RANGE[1]:g}", *KAPPA_RANGE) for k in args.kappa]
+
+
+def _formats(text):
+    """The figure formats of a comma-separated --format."""
+    from .core import plotting
+
+    formats = tuple(f.strip() for f in text.split(",") if f.strip())
+    if not formats or set(formats) - set(plotting.FORMATS):
+        raise InputError(f"format {text!r}: accepted {', '.join(plotting.FORMATS)} (comma separated)")
+    return formats
+
+
 def _add_synthesis(sub):
     from .core.problem import KINDS
 
@@ -173,10 +216,7 @@ def _add_synthesis(sub):
     p.add_argument("problem", help=f"one of: {', '.join(KINDS)}")
     p.add_argument("--kappa", nargs="+", required=True, help="one or more torque bounds")
     p.add_argument("--plane", action="store_true", help="the plane (target branch 0 only); default: the circle")
-    p.add_argument("--window", nargs=4, metavar=("THETA_LO", "THETA_HI", "OMEGA_LO", "OMEGA_HI"),
-                   default=["-3.141592653589793", "3.141592653589793", "-3", "3"], help="default [-pi, pi] x [-3, 3]")
-    p.add_argument("--grid", nargs=2, metavar=("N_THETA", "N_OMEGA"), default=["401", "241"], help="default 401 241")
-    p.add_argument("--horizon", default="12", help="longest time-to-go drawn, default 12")
+    _add_window(p, (401, 241), "grid points")
     p.add_argument("--check", default="0", help="re-solve this many random cells by ocp.solve and compare")
     p.add_argument("--out", default="synthesis", help="folder for the maps (.npz) and figures, default ./synthesis")
     p.add_argument("--format", default="png,pdf", help="figure formats, comma separated; default png,pdf")
@@ -188,25 +228,15 @@ def _run_synthesis(args):
     from pathlib import Path
 
     from .core import plotting
-    from .core.errors import finite, integer
+    from .core.errors import integer
     from .core.output import print_json
-    from .core.problem import KINDS, KAPPA_RANGE
     from .figures.synthesis import draw_map
-    from .synthesis.field import Window, check, save, summary, synthesize
+    from .synthesis.field import check, save, summary, synthesize
 
-    if args.problem not in KINDS:
-        raise InputError(f"unknown problem {args.problem!r}; accepted: {', '.join(KINDS)}")
-    kappas = [finite("kappa", k, f"numbers from {KAPPA_RANGE[0]:g} to {KAPPA_RANGE[1]:g}", *KAPPA_RANGE) for k in args.kappa]
-    lo_t, hi_t, lo_w, hi_w = (finite("window", v, "four numbers, |theta| <= 1000, |omega| <= 50", -1000, 1000)
-                              for v in args.window)
-    if not (lo_t < hi_t and lo_w < hi_w and max(abs(lo_w), abs(hi_w)) <= 50):
-        raise InputError("window: THETA_LO < THETA_HI and OMEGA_LO < OMEGA_HI, |omega| <= 50")
-    grid = [integer("grid", g, "two integers from 11 to 2001", 11, 2001) for g in args.grid]
-    horizon = finite("horizon", args.horizon, "a number of time units from 0.1 to 60", 0.1, 60)
+    kappas = _problem_kappas(args)
+    window, horizon = _window(args, 11, 2001)
     checks = integer("check", args.check, "an integer from 0 to 1000", 0, 1000)
-    formats = tuple(f.strip() for f in args.format.split(",") if f.strip())
-    if not formats or set(formats) - set(plotting.FORMATS):
-        raise InputError(f"format {args.format!r}: accepted {', '.join(plotting.FORMATS)} (comma separated)")
+    formats = _formats(args.format)
     reading = "plane" if args.plane else "circle"
     out, results = Path(args.out), []
     for n, kappa in enumerate(kappas, 1):
@@ -214,7 +244,7 @@ def _run_synthesis(args):
         data = stem.parent / (stem.name + ".npz")
         if not args.json:
             print(f"[{n}/{len(kappas)}] {args.problem}, {reading}, kappa = {kappa:g} ...", file=sys.stderr, flush=True)
-        s = synthesize(args.problem, kappa, reading, Window(lo_t, hi_t, lo_w, hi_w, *grid), horizon)
+        s = synthesize(args.problem, kappa, reading, window, horizon)
         try:
             out.mkdir(parents=True, exist_ok=True)
             save(s, data)
@@ -238,6 +268,82 @@ def _run_synthesis(args):
                       f"switch counts that differ: {c['switch counts that differ']}")
     if args.json:
         print_json(results)
+    return 0
+
+
+def _add_failure_map(sub):
+    from .core.problem import KINDS
+
+    p = sub.add_parser("failure-map", help="where a direct method fails: its outcome class (against the complete "
+                                           "search) over a grid of starts at one kappa, or over kappa at one start")
+    p.add_argument("problem", help=f"one of: {', '.join(KINDS)}")
+    p.add_argument("--kappa", nargs="+", required=True,
+                   help="one torque bound (a grid of starts), or LO HI with --sweep COUNT (a sweep of kappa)")
+    p.add_argument("--sweep", metavar="COUNT", help="COUNT values of kappa from LO to HI, at the start --x0")
+    p.add_argument("--x0", nargs=2, metavar=("THETA", "OMEGA"), help="the start of a sweep (default: the standard one)")
+    p.add_argument("--transcription", default="multiple-shooting", help="multiple-shooting (default) or direct-collocation")
+    p.add_argument("--N", default="25", help="intervals, default 25")
+    p.add_argument("--solver", default="ipopt", help="a casadi.nlpsol plugin, default ipopt")
+    p.add_argument("--configuration", default="default", help="default or fair (ocp.bench.configurations)")
+    _add_window(p, (21, 15), "starts")
+    p.add_argument("--jobs", default="1", help="local worker processes, default 1")
+    p.add_argument("--out", default="failure-maps", help="folder for the map (.npz) and its figure, default ./failure-maps")
+    p.add_argument("--format", default="png", help="figure formats, comma separated; default png")
+    p.add_argument("--json", action="store_true", help="print one JSON object (the outcome counts and the reasons)")
+    p.set_defaults(run=_run_failure_map)
+
+
+def _run_failure_map(args):
+    from dataclasses import replace
+    from pathlib import Path
+
+    import numpy as np
+
+    from .bench import failure_map
+    from .bench.runner import Progress, executor
+    from .bench.suite import Method
+    from .core import plotting
+    from .core.errors import finite, integer
+    from .core.output import print_json, solver_output
+    from .figures.failure_map import draw_grid, draw_sweep
+    from .synthesis.field import synthesize
+
+    kappas = _problem_kappas(args)
+    if len(kappas) != (1 if args.sweep is None else 2) or (args.sweep is not None and kappas[0] >= kappas[1]):
+        raise InputError("kappa: one value (a grid of starts), or LO HI with LO < HI and --sweep COUNT")
+    if args.x0 is not None and args.sweep is None:
+        raise InputError("--x0 is the start of a sweep: add --sweep COUNT (a grid takes its starts from --window)")
+    N = integer("N", args.N, "an integer from 2 to 400", 2, 400)
+    method = Method(args.transcription, (("N", N),), args.solver, {}, args.configuration)
+    jobs = integer("jobs", args.jobs, "an integer from 1 to 64", 1, 64)
+    formats = _formats(args.format)
+    if args.sweep is not None:
+        cells = integer("sweep", args.sweep, "an integer from 2 to 401", 2, 401)
+        x0 = None if args.x0 is None else tuple(finite("x0", v, "two numbers, |theta| <= 1000, |omega| <= 50", -1000, 1000)
+                                                for v in args.x0)
+    else:
+        window, horizon = _window(args, 2, 201)
+        cells = window.n_theta * window.n_omega
+    with executor(jobs) as (pool, workers, _), solver_output("stderr"):
+        progress = Progress(cells, "cells")
+        if args.sweep is not None:
+            fmap = failure_map.sweep(args.problem, np.linspace(kappas[0], kappas[1], cells), x0, method, pool, workers,
+                                     progress)
+        else:
+            fmap = failure_map.grid(args.problem, kappas[0], method, window, pool, workers, progress)
+            synthesis = synthesize(args.problem, kappas[0], "circle", replace(window, n_theta=401, n_omega=301), horizon)
+    stem = Path(args.out) / failure_map.name(fmap)
+    with plotting.style():
+        figure = draw_sweep(fmap) if args.sweep is not None else draw_grid(fmap, synthesis)
+        files = [failure_map.save(fmap, stem.with_name(stem.name + ".npz"))] + plotting.save(figure, stem, formats)
+    result = dict(failure_map.summary(fmap), files=[str(f) for f in files])
+    if args.json:
+        print_json(result)
+    else:
+        print(f"{result['method']}, {args.problem}: {', '.join(f'{k} {v}' for k, v in result['outcomes'].items())} "
+              f"cells in {fmap.time_s:.0f} s; {', '.join(result['files'])}")
+        for reason in result["reasons"]:
+            print(f"  {reason}")
     return 0
 
 
@@ -293,6 +399,7 @@ def main(argv=None):
     _add_figures(sub)
     _add_synthesis(sub)
     _add_bifurcation(sub)
+    _add_failure_map(sub)
     from .bench.command import add_commands
     add_commands(sub)
     try:

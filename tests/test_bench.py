@@ -2,6 +2,7 @@
 the Dask executor on a loopback cluster, the peer's skip note, and one-line errors (exit 2)."""
 
 import json
+import math
 import sqlite3
 
 import pytest
@@ -59,9 +60,13 @@ def test_bench_stores_every_row_resumes_and_reports(tiny, tmp_path, capsys):
     assert ok["outcome"] == "ok" and ok["ref_source"].startswith("one-switch swing-up (Finch 2015)")
     assert 0 < abs(ok["T_minus_ref"]) <= ok["T_error"] and ok["timing"]["parallel"]
     assert ok["n_w"] > 0 and ok["build_time_s"] > 0 and len(ok["switch_time_errors"]) == 1
+    assert ok["peak_rss_mib"] > 10 and ok["peak_rss_scope"] == "this run"
     assert rows[("swing-up kappa=1", "DC radau3 / fatrop N=20")]["outcome"] == "build error"
     assert rows[("swing-up kappa=1", "MS rk4 M=4 / feasiblesqpmethod N=20")]["outcome"] == "not converged"
     assert rows[("swing-up kappa=1 guess#3", "MS rk4 M=4 / ipopt N=20")]["success"]
+    failed = [r for r in rows.values() if r["outcome"] != "ok"]
+    assert failed and all(r["message"] for r in failed)          # every failure row carries its reason
+    assert all(r["solver_message"] for r in failed if r["status"] != "build_error")
 
     with sqlite3.connect(store) as db:       # as if interrupted before the last row
         db.execute("delete from results where rowid = (select max(rowid) from results)")
@@ -97,6 +102,42 @@ def test_missing_peer_is_skipped_with_a_note(tmp_path, monkeypatch, capsys):
     code, out = bench([path, "--store", tmp_path / "p.sqlite"], capsys)
     assert code == 0 and out["notes"] == [peer.MISSING] and out["run_now"] == 4
     assert all("rockit" not in m["method"] for m in out["methods"])
+
+
+def test_a_fair_configuration_reaches_the_solver():
+    """Issue 15: blockSQP by default asks for HSL's MA27, which the wheel lacks (the solver's message
+    says so); in its fair configuration (CasADi's ldl, `ocp.bench.configurations`) it runs and
+    converges, and the row records the configuration and the exact options."""
+    case = suite.Case("swing-up", 1.0)
+    default, fair = (suite.Method(settings=(("N", 20),), solver="blocksqp", configuration=c) for c in ("default", "fair"))
+    assert "ma27" in runner.measure(case, default)["solver_message"]
+    row = runner.measure(case, fair)
+    assert row["success"] and "ma27" not in row["solver_message"]
+    assert fair.to_dict()["options"]["linsol"] == "ldl" and fair.to_dict()["configuration"] == "fair"
+    assert fair.key != default.key and fair.label == "MS rk4 M=4 / blocksqp [fair] N=20"
+    assert "configuration" not in default.to_dict() and default.to_dict()["options"] == {}   # keys as before
+    assert suite.Method(solver="ipopt", options={"ipopt.tol": 1e-6}, configuration="fair").applied["ipopt.tol"] == 1e-6
+
+
+def test_peak_memory_is_of_the_run():
+    """The high-water mark is reset before each run: a large array freed before it does not count."""
+    import numpy as np
+    big = np.ones(2**25)                  # 256 MiB
+    high = runner.peak_rss()[0]
+    del big
+    runner.reset_peak_rss()
+    assert runner.peak_rss() == (pytest.approx(runner.peak_rss()[0]), "this run") and runner.peak_rss()[0] < high - 200
+
+
+def test_rockit_free_grid_misses_the_target():
+    """Issue 15: rockit's FreeGrid reports success, but its control re-simulated on the grid it solved
+    misses the target (its RK steps stretch with the intervals): the row is "misses target"."""
+    pytest.importorskip("rockit")
+    case = suite.Case("swing-up", 1.0, guess=1)
+    method = suite.Method("rockit-freegrid", (("M", 4), ("N", 10)))
+    row = runner.score(runner.measure(case, method), runner.reference(case), case, math.inf)
+    assert method.label == "rockit MS rk M=4 free grid / ipopt N=10"
+    assert row["outcome"] == "misses target" and row["solver_message"] == "Solve_Succeeded" and row["resim_miss"] > 1e-4
 
 
 def test_outcome_against_the_search_reference():

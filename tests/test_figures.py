@@ -138,8 +138,9 @@ def test_pivot_chart(data):
     assert all(p["floquet"] == kapitza.stability(kapitza.A, p["omega"]) for p in d["points"].values())
 
 
-#: the figures of the papers (the synthesis maps are drawn and checked in tests/test_synthesis.py)
-PAPER_FIGURES = [n for n, f in FIGURES.items() if not f.from_store and not n.startswith("synthesis-")]
+#: the figures of the papers (the synthesis maps are drawn and checked in tests/test_synthesis.py, the
+#: failure maps in tests/test_failure_map.py)
+PAPER_FIGURES = [n for n, f in FIGURES.items() if not f.from_store and not n.startswith(("synthesis-", "failure-map-"))]
 
 
 def test_files_written_and_reproducible(data, tmp_path):

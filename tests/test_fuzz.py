@@ -74,6 +74,8 @@ def stopped(monkeypatch):
     monkeypatch.setattr("ocp.papers.verify.rows", stop)
     monkeypatch.setattr("ocp.bench.report.report", stop)
     monkeypatch.setattr("ocp.figures.write", stop)
+    monkeypatch.setattr("ocp.bench.failure_map.grid", stop)
+    monkeypatch.setattr("ocp.bench.failure_map.sweep", stop)
 
 
 FLAGS = ["solve", "bench", "report", "verify", "figures", "swing-up", "damping", "--kappa", "--x0", "--branch",
@@ -81,7 +83,8 @@ FLAGS = ["solve", "bench", "report", "verify", "figures", "swing-up", "damping",
          "--degree", "--solver", "--option", "--allow-unsafe-options", "--miss-tol", "--paper", "--out", "--only",
          "--format", "--store", "--jobs", "--scheduler", "--yes", "--budget", "--accuracy", "quick", "full",
          "multiple-shooting", "direct-collocation", "rk4", "cvodes", "collocation", "ipopt", "fatrop", "png,pdf",
-         "finch2015", "finch-fig1", "ipopt.tol=1e-8", "jit=true", "ipopt.max_iter=-1", "-h"]
+         "finch2015", "finch-fig1", "ipopt.tol=1e-8", "jit=true", "ipopt.max_iter=-1", "-h", "failure-map", "--sweep",
+         "--grid", "--window", "--configuration", "fair", "default", "sqpmethod", "blocksqp"]
 NUMBERS = ["0", "1", "-1", "0.5", "-1e-3", "1e9", "1e999", "nan", "inf", "-inf", "9" * 400, "1_000", "0x10", " 2 ",
            "", "1,5", "3.0"]
 token = st.one_of(st.sampled_from(FLAGS), st.sampled_from(NUMBERS), st.text(st.characters(blacklist_characters="\0"),
@@ -95,7 +98,10 @@ VALID = [["solve", "swing-up", "--kappa", "1"],
          ["bench", "ok.toml", "--store", "s.sqlite", "--jobs", "2"],
          ["report", "s.sqlite", "--format", "png,svg", "--budget", "2", "--accuracy", "1e-3"],
          ["verify", "--paper", "finch2015", "--json"],
-         ["figures", "--only", "finch-fig1", "--format", "png", "--out", "figs"]]
+         ["figures", "--only", "finch-fig1", "--format", "png", "--out", "figs"],
+         ["failure-map", "swing-up", "--kappa", "1", "--grid", "3", "3", "--solver", "sqpmethod", "--configuration",
+          "fair", "--out", "maps"],
+         ["failure-map", "damping", "--kappa", "0.5", "1.5", "--sweep", "3", "--x0", "0.5", "0", "--jobs", "2"]]
 edits = st.lists(st.tuples(st.sampled_from(["insert", "replace", "delete"]), st.integers(0, 20), token), max_size=3)
 
 

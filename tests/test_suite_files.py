@@ -48,6 +48,9 @@ BAD = {                                           # what replaces a line of GOOD
     "an unsafe option": ("N = 20", 'N = 20\noptions = { ipopt = { "ipopt.output_file" = "x" } }', "output_file"),
     "a solver name with a path": ("N = 20", 'N = 20\nsolver = "../../lib/x"', "solver"),
     "a case without kappa": ("kappa = 1.0", "", "kappa"),
+    "an unknown configuration": ("N = 20", 'N = 20\nconfiguration = "tuned"', "configuration = 'tuned'"),
+    "a configuration as a number": ("N = 20", "N = 20\nconfiguration = 1", "configuration"),
+    "no fair configuration": ("N = 20", 'N = 20\nsolver = "alpaqa"\nconfiguration = "fair"', "'alpaqa'"),
     "10^6 cases": ("kappa = 1.0", f"kappa = {[1.0] * 1000}\nguess = {list(range(1000))}", "at most 100000"),
     "10^6 pairs": ("kappa = 1.0\n", f"kappa = {[0.5 + i / 1000 for i in range(400)]}\n", "at most 100000"),
 }

@@ -1,6 +1,8 @@
 """The peer: rockit (`pip install rockit-meco`, the `peer` extra), solving the same cases with its own
-multiple shooting (`rockit.MultipleShooting(N, M, intg="rk")`, free final time), from the same
-initial guesses, verified by ocp's independent re-simulation, read by ocp's structure reader.
+multiple shooting (`rockit.MultipleShooting(N, M, intg="rk")`, free final time), on a uniform grid
+or on rockit's FreeGrid (every interval's length a variable), from the same initial guesses,
+verified by ocp's independent re-simulation on the grid rockit solved, read by ocp's structure
+reader.
 
 Like `ocp.direct.solve`, every guess is solved and the best verified answer kept; the NLP is
 transcribed once per call (rockit has no cache across calls), and that is its build time.
@@ -15,6 +17,7 @@ from .. import direct
 from ..core.errors import last_line
 from ..core.problem import CONTROL_BOUNDS, dynamics, terminal_bounds, terminal_constraints
 from ..direct.solve import best_of, verified
+from .suite import PEER_FREE_GRID
 
 MISSING = "rockit is not installed (pip install 'ocp[peer]', i.e. rockit-meco): its runs are skipped"
 
@@ -48,11 +51,12 @@ def _ocp(problem, method, T_guess):
             oc.subject_to(expression >= lower)
     oc.add_objective(oc.T)
     settings = method.transcription_object()
-    oc.method(rockit.MultipleShooting(N=settings.N, M=settings.M, intg="rk"))
+    grid = rockit.FreeGrid() if method.transcription == PEER_FREE_GRID else rockit.UniformGrid()
+    oc.method(rockit.MultipleShooting(N=settings.N, M=settings.M, intg="rk", grid=grid))
     options = {"expand": True, "print_time": False}
     if method.solver == "ipopt":
         options.update({"ipopt.print_level": 0, "ipopt.sb": "yes"})
-    oc.solver(method.solver, dict(options, **method.options))
+    oc.solver(method.solver, dict(options, **method.applied))
     return oc, (theta, omega, u)
 
 
@@ -74,6 +78,9 @@ def solve(problem, method, guess=None, miss_tol=direct.MISS_TOL):
     for g in guesses:
         for var, values, n in zip(nodes, (g.T, *g.on_grid(N)), (1, N + 1, N + 1, N)):
             opti.set_initial(var[:, :n], values)
+        if method.transcription == PEER_FREE_GRID:          # each interval's length: a variable of its own
+            for length in oc._method.T_local:
+                opti.set_initial(length, g.T / N)
         runs.append(_run(oc, (theta, omega, u), problem, method, g, miss_tol))
     return best_of(runs, build_time, time.perf_counter() - start), (opti.nx, opti.ng)
 
@@ -88,10 +95,9 @@ def _run(oc, variables, problem, method, guess, miss_tol):
         sol, stats = oc.non_converged_solution, {"return_status": f"not converged: {last_line(err)}"}
     solve_time = time.perf_counter() - start
     stats = dict(oc._method.opti.stats(), **stats)
-    settings = method.transcription_object()
-    t = np.linspace(0.0, float(sol.value(oc.T)), settings.N + 1)
-    x = np.column_stack([sol.sample(theta, grid="control")[1], sol.sample(omega, grid="control")[1]])
-    info = dict(method.to_dict(), transcription="rockit multiple shooting", integrator="rk")
+    t, theta_k = sol.sample(theta, grid="control")          # the control grid rockit solved (free or uniform)
+    x = np.column_stack([theta_k, sol.sample(omega, grid="control")[1]])
+    info = dict(method.to_dict(), transcription=f"{method.transcription} multiple shooting", integrator="rk")
     return verified(problem, info, None, t, x, np.clip(sol.sample(u, grid="control")[1][:-1], -1.0, 1.0),
                     bool(stats.get("success", False)), str(stats.get("return_status")),
                     int(stats.get("iter_count", -1)), miss_tol, solve_time, guess.label, problem.branch)

@@ -3,7 +3,8 @@
     method table        per method family (a method without its N): runs, success rate, rate of
                         reaching the best known optimum (all guesses; random guesses alone; runs
                         of a method that states no accuracy cannot be judged and are counted
-                        apart), median |T - T_ref| and median total time
+                        apart), median |T - T_ref|, median total time and median peak
+                        resident memory of the worker during a run (`runner.peak_rss`)
     failure table       per family and outcome class (`ocp.bench.runner.OUTCOMES`), with the
                         cases and a status; every failing row is counted, none is left out
     work precision      per case (default guess): |T - T_ref| against the median total time, one
@@ -105,6 +106,7 @@ def method_table(records, best):
             "reached optimum (random guesses)": _rate(reached(r, best) for r in random),
             "median |T - T_ref|": _median([abs(r["T_minus_ref"]) for r in runs if r["outcome"] in GOOD], ".1e"),
             "median total time (s)": _median([r["total_time_s"] for r in runs if r["outcome"] != "build error"], ".3f"),
+            "median peak memory (MiB)": _median([r.get("peak_rss_mib") for r in runs], ".0f"),
         })
     return rows
 
@@ -118,11 +120,11 @@ def failure_table(records):
     return [{"method": family, "outcome": outcome, "runs": len(runs),
              "N": " ".join(str(n) for n in sorted({r["N"] for r in runs})),
              "cases": "; ".join(dict.fromkeys(r["case_label"] for r in runs)),
-             "status (first)": _status(runs[0])[:160]}
+             "status (first)": reason(runs[0])[:160]}
             for (family, outcome), runs in groups.items()]
 
 
-def _status(r):
+def reason(r):
     """How a run ended, in words: the solver's own message and the suite's (with the re-simulated
     miss when the control misses the target)."""
     parts = [r.get("solver_message"), r.get("message") or r["status"]]
@@ -152,7 +154,8 @@ def markdown(rows):
     return "\n".join(lines) + "\n"
 
 
-def _slug(text):
+def slug(text):
+    """`text` as a file name: lower-case letters and digits, runs of anything else one "-"."""
     return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
 
 
@@ -255,7 +258,7 @@ def work_precision(records, out_dir, formats):
             ax.set_ylabel("|T - T*|   (T*: the complete search's optimum)")
             ax.set_title(f"work precision: {case}")
             ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
-            paths += plotting.save(fig, Path(out_dir) / f"work_precision_{_slug(case)}", formats)
+            paths += plotting.save(fig, Path(out_dir) / f"work_precision_{slug(case)}", formats)
     return paths
 
 

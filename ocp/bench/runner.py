@@ -38,7 +38,7 @@ from ..result import DirectClass
 from ..solving import classify, solve
 from . import peer
 from .store import process_alive
-from .suite import PEER, SEARCH
+from .suite import PEERS, SEARCH
 
 #: a formula and the search agree when their T differ by less than this
 AGREE = 1e-9
@@ -98,12 +98,32 @@ def _solve_once(case, method, miss_tol):
     if method.transcription == SEARCH:
         return solve(problem), (0, 0)
     guess = case.initial_guess(method.N)
-    if method.transcription == PEER:
+    if method.transcription in PEERS:
         return peer.solve(problem, method, guess, miss_tol)
     settings = method.transcription_object()
-    sol = direct.solve(problem, settings, method.solver, method.options, guess, miss_tol)
-    built = direct.nlp.build(settings, method.solver, method.options, problem.reading)
+    sol = direct.solve(problem, settings, method.solver, method.applied, guess, miss_tol)
+    built = direct.nlp.build(settings, method.solver, method.applied, problem.reading)
     return sol, (built.n_w, built.n_g)
+
+
+def peak_rss():
+    """(peak resident set of this process in MiB, since when): on Linux the high-water mark VmHWM,
+    reset by `reset_peak_rss`; elsewhere getrusage's ru_maxrss, the peak since the process began."""
+    try:
+        with open("/proc/self/status") as f:
+            kb = next(int(line.split()[1]) for line in f if line.startswith("VmHWM:"))
+        return kb / 1024, "this run"
+    except (OSError, StopIteration, ValueError):
+        import resource
+        scale = 1 if sys.platform == "darwin" else 1024          # bytes on macOS, KiB on Linux
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * scale / 2**20, "the process so far"
+
+
+def reset_peak_rss():
+    """Reset this process's peak resident set to its current one (Linux >= 4.0; elsewhere nothing)."""
+    with contextlib.suppress(OSError):
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
 
 
 def _fields(sol, size):
@@ -127,11 +147,14 @@ def _fields(sol, size):
 
 def measure(case, method, repeats=1, miss_tol=1e-6):
     """Solve the pair `repeats` times, each cold; the fields of the first solve, the median of each
-    time, every repeat's times, and the spread of T across repeats. A build that fails (a plugin
-    that cannot load, an option it rejects) or a solve that raises gives a failure record."""
+    time and of the peak resident set of the worker process during each repeat (`peak_rss`: the
+    interpreter and its libraries included), every repeat's, and the spread of T across repeats. A
+    build that fails (a plugin that cannot load, an option it rejects) or a solve that raises gives
+    a failure record."""
     times, first = [], None
     with solver_output("devnull"):
         for _ in range(repeats):
+            reset_peak_rss()
             try:
                 sol, size = _solve_once(case, method, miss_tol)
             except InputError as err:
@@ -141,7 +164,7 @@ def measure(case, method, repeats=1, miss_tol=1e-6):
                         "message": f"solver error: {type(err).__name__}: {last_line(err)}", "times": []}
             times.append({"build_time_s": getattr(sol, "build_time_s", 0.0),
                           "solve_time_s": getattr(sol, "solve_time_s", sol.total_time_s),
-                          "total_time_s": sol.total_time_s})
+                          "total_time_s": sol.total_time_s, "peak_rss_mib": peak_rss()[0]})
             first = first or (_fields(sol, size), [])
             first[1].append(sol.T)
     fields, Ts = first
@@ -149,6 +172,7 @@ def measure(case, method, repeats=1, miss_tol=1e-6):
     fields["T_spread"] = max(finite) - min(finite) if finite else None
     fields.update({k: statistics.median(t[k] for t in times) for k in times[0]})
     fields["times"] = times
+    fields["peak_rss_scope"] = peak_rss()[1]
     return fields
 
 
@@ -312,7 +336,7 @@ def run(suite, store, pool, workers, executor_name, environment):
     skipped, with a note, when rockit is not installed. Returns {session, executor, records (of
     this session), resumed (pairs already stored), claimed_elsewhere, notes}."""
     notes = []
-    if not peer.available() and any(m.transcription == "rockit" for m in suite.methods):
+    if not peer.available() and any(m.transcription in PEERS for m in suite.methods):
         notes.append(peer.MISSING)
     session = store.open_session(suite.name, executor_name, environment)
     try:
@@ -340,7 +364,7 @@ def _run(suite, store, pool, workers, executor_name, session, notes):
     settings = suite.settings_key
     done = store.done(settings)
     todo = [(c, m) for c, m in suite.pairs() if (c.key, m.key) not in done
-            and (m.transcription != "rockit" or not notes)]
+            and (m.transcription not in PEERS or not notes)]
     records, skipped = [], {"stored": 0, "claimed": 0}
     progress = Progress(len(todo), "runs")
 
@@ -360,7 +384,8 @@ def _run(suite, store, pool, workers, executor_name, session, notes):
         timing = {"executor": executor_name, "workers": workers, "parallel": workers > 1,
                   "concurrent_sessions": others, "note": timing_note(workers, others)}
         rec.update(suite=suite.name, case=case.key, method=method.key, case_label=case.label,
-                   family=method.family, label=method.label, N=method.N, problem=case.problem_key,
+                   family=method.family, label=method.label, N=method.N, configuration=method.configuration,
+                   options=method.applied, problem=case.problem_key,
                    guess="default" if case.guess is None else case.guess, **suite.settings, timing=timing)
         store.add_result(case.key, method.key, session, rec, settings, started)
         records.append(rec)

@@ -15,12 +15,16 @@ these" and the table expands to the Cartesian product of its lists:
     guess = ["default", 1, 2]        # "default": ocp's three starts; an integer: a seeded random Guess
 
     [[methods]]
-    transcription = "multiple-shooting"   # a key of ocp.direct.TRANSCRIPTIONS, "rockit" (the peer),
+    transcription = "multiple-shooting"   # a key of ocp.direct.TRANSCRIPTIONS, "rockit" or
+                                          # "rockit-freegrid" (the peer),
     integrator = "rk4"                    # or "extremal-search" (ocp.solve's complete search alone)
     N = [25, 50, 100]
     solver = ["ipopt", "fatrop"]
-    options = { ipopt = { "ipopt.tol" = 1e-10 } }   # per solver, passed to casadi.nlpsol untouched
-                                                    # (options that run a program or touch a file are refused)
+    configuration = ["default", "fair"]   # the solver's defaults, or its fair configuration
+                                          # (ocp.bench.configurations)
+    options = { ipopt = { "ipopt.tol" = 1e-10 } }   # per solver, over the configuration's, passed to
+                                                    # casadi.nlpsol untouched (options that run a
+                                                    # program or touch a file are refused)
 
 Every value is checked when the file is read (`load`): its type (a string is not a number), its
 range, the name (it names the default store, so it cannot leave the working folder), and the size
@@ -48,12 +52,15 @@ from ..core import problem as problems
 from ..core.errors import Fault, InputError, finite, integer, short
 from ..direct.nlp import SOLVER_NAME
 from ..direct.options import checked
+from . import configurations
 
 PEER = "rockit"
+PEER_FREE_GRID = "rockit-freegrid"      # the peer on rockit's FreeGrid: each interval's length a variable
+PEERS = (PEER, PEER_FREE_GRID)
 SEARCH = "extremal-search"
 SEARCH_FAMILY = "extremal search"           # its family (`Method.family`): the only one without an N
 #: what a method row may be: a direct transcription of ocp, the peer, or the search
-KINDS_OF_METHOD = (*direct.TRANSCRIPTIONS, PEER, SEARCH)
+KINDS_OF_METHOD = (*direct.TRANSCRIPTIONS, *PEERS, SEARCH)
 
 #: limits of a suite: a file of at most MAX_BYTES, at most MAX_PAIRS cases, methods and pairs, at
 #: most MAX_RUNS solves (pairs x repeats)
@@ -118,14 +125,16 @@ class Case:
 @dataclass(frozen=True)
 class Method:
     """A direct transcription (a key of `ocp.direct.TRANSCRIPTIONS` with its settings), an NLP
-    solver with its options; or "rockit", the peer (its own multiple shooting, integrator "rk", M
-    steps per interval); or "extremal-search", ocp.solve's complete search of extremals (no N, no
-    solver). Only the settings given are stored (`settings`); each must apply."""
+    solver in a configuration (`ocp.bench.configurations`) with options over it; or "rockit", the
+    peer (its own multiple shooting, integrator "rk", M steps per interval), "rockit-freegrid" (the
+    same on rockit's FreeGrid); or "extremal-search", ocp.solve's complete search of extremals (no
+    N, no solver). Only the settings given are stored (`settings`); each must apply."""
 
     transcription: str = "multiple-shooting"
     settings: tuple = ()
     solver: str = "ipopt"
     options: dict = field(default_factory=dict)
+    configuration: str = configurations.DEFAULT
 
     def __post_init__(self):
         if not isinstance(self.solver, str) or not SOLVER_NAME.fullmatch(self.solver):
@@ -133,12 +142,19 @@ class Method:
                              f"name (lower-case letters, digits, _), e.g. ipopt")
         if self.transcription not in KINDS_OF_METHOD:
             raise InputError(f"unknown transcription {self.transcription!r}; accepted: {', '.join(KINDS_OF_METHOD)}")
-        if self.transcription == SEARCH and (self.settings or self.options or self.solver != "ipopt"):
-            raise InputError("the extremal search takes no transcription settings, solver or options")
-        if self.transcription == PEER and set(self.given) - {"N", "M"}:
+        if self.transcription == SEARCH and (self.settings or self.options or self.solver != "ipopt"
+                                             or self.configuration != configurations.DEFAULT):
+            raise InputError("the extremal search takes no transcription settings, solver, configuration or options")
+        if self.transcription in PEERS and set(self.given) - {"N", "M"}:
             raise InputError(f"the rockit peer takes N and M only, not {sorted(set(self.given) - {'N', 'M'})}")
         checked(self.options, where=f"options of {self.transcription} / {self.solver}")
+        self.applied                         # validates the configuration
         self.transcription_object()          # validates the settings
+
+    @property
+    def applied(self):
+        """The options passed to casadi.nlpsol: the configuration's, `options` over them."""
+        return configurations.options(self.solver, self.configuration) | self.options
 
     @property
     def given(self):
@@ -151,7 +167,7 @@ class Method:
         """The ocp transcription (for rockit: the equivalent multiple shooting), None for the search."""
         if self.transcription == SEARCH:
             return None
-        if self.transcription == PEER:
+        if self.transcription in PEERS:
             return direct.MultipleShooting(**self.given)
         return direct.make(self.transcription, **self.given)
 
@@ -164,7 +180,9 @@ class Method:
         t = self.transcription_object()
         d = {"transcription": self.transcription}
         if t is not None:
-            d.update(t.to_dict(), transcription=self.transcription, solver=self.solver, options=self.options)
+            d.update(t.to_dict(), transcription=self.transcription, solver=self.solver, options=self.applied)
+            if self.configuration != configurations.DEFAULT:     # keys of default rows as before configurations
+                d["configuration"] = self.configuration
         return d
 
     @property
@@ -177,8 +195,10 @@ class Method:
         if self.transcription == SEARCH:
             return SEARCH_FAMILY
         t = self.transcription_object()
-        name = f"rockit MS rk M={t.M}" if self.transcription == PEER else t.family()
+        name = t.family() if self.transcription not in PEERS else f"rockit MS rk M={t.M}" + (
+            " free grid" if self.transcription == PEER_FREE_GRID else "")
         name += f" / {self.solver}"
+        name += "" if self.configuration == configurations.DEFAULT else f" [{self.configuration}]"
         return name + (f" {_key(self.options)}" if self.options else "")
 
     @property
@@ -281,7 +301,7 @@ def _plain(value, name, depth=0):
 
 def _method(d):
     settings = {f.name: f.type for c in direct.TRANSCRIPTIONS.values() for f in fields(c)}
-    names = {"transcription", "solver", "options"} | set(settings)
+    names = {"transcription", "solver", "options", "configuration"} | set(settings)
     if set(d) - names:
         raise InputError(f"unknown method field(s) {sorted(set(d) - names)}; accepted: {', '.join(sorted(names))}")
     for key, value in d.items():
@@ -295,8 +315,10 @@ def _method(d):
     if not isinstance(options, dict) or not all(isinstance(v, dict) for v in options.values()):
         raise InputError(f"options = {short(options)} must be a table per solver, e.g. options = {{ ipopt = {{ \"ipopt.tol\" = 1e-10 }} }}")
     _plain(options, "options")
+    configuration = _typed("configuration", d.get("configuration", configurations.DEFAULT), (str,),
+                           f"one of: {', '.join(configurations.CONFIGURATIONS)}")
     given = tuple(sorted((k, v) for k, v in d.items() if k in settings))
-    return Method(transcription, given, solver, options.get(solver, {}))
+    return Method(transcription, given, solver, options.get(solver, {}), configuration)
 
 
 def _read(path):

@@ -13,7 +13,7 @@ from typing import Callable
 
 from ..core import plotting
 from ..core.errors import InputError
-from . import batista, finch, suite, synthesis, vibrating_pivot
+from . import batista, failure_map, finch, suite, synthesis, vibrating_pivot
 
 
 @dataclass(frozen=True)
@@ -51,6 +51,11 @@ FIGURES = {
                     lambda k=kind, r=reading, kp=kappa, w=window, h=horizon: synthesis.map_data(k, r, kp, w, h),
                     _drawn(synthesis.draw_map))
        for name, kind, reading, kappa, window, horizon in synthesis.MAPS},
+    **{name: Figure(f"failure map: the outcome of {method.label} from a grid of starts over the optimal synthesis "
+                    f"({kind}, kappa = {kappa:g})",
+                    lambda k=kind, kp=kappa, m=method, w=window, g=grid, h=horizon: failure_map.map_data(k, kp, m, w, g, h),
+                    _drawn(lambda d: failure_map.draw_grid(*d)))
+       for name, kind, kappa, method, window, grid, horizon in failure_map.MAPS},
     "work-precision": Figure("work-precision charts, one a benchmark case (from a results store)",
                              suite.records, suite.write_work_precision, from_store=True),
     "profiles": Figure("performance profiles across the benchmark cases (from a results store)",

@@ -34,15 +34,50 @@ def map_data(kind, reading, kappa, window, horizon, resolution=(601, 361)):
     return synthesize(kind, kappa, reading, Window(*window, *resolution), horizon)
 
 
-def draw_map(s, marked=()):
-    """The figure of a Synthesis `s`; `marked`: states (theta, omega, label) to ring."""
+def draw_map(s, marked=None):
+    """The figure of a Synthesis `s`; `marked`: states (theta, omega, label) to ring, by default
+    where the region of n + 1 switches is born for each stored bifurcation value kappa_n of the
+    same problem and reading within 0.05 of s.kappa (the state and its mirror image)."""
+    marked = born_states(s) if marked is None else marked
+    fig, ax = plt.subplots(figsize=(7.2, 4.8))
+    handles, labels = draw_layers(fig, ax, s)
+    for theta, omega, label in marked:
+        ring = ax.plot(theta, omega, "o", mfc="none", mec="#d62728", ms=11, mew=1.6)[0]
+        if label:
+            handles.append(ring)
+            labels.append(label)
+    ax.set_title(f"{s.kind}, κ = {s.kappa:g}, on the {s.reading}: optimal switch count")
+    ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7)
+    return fig
+
+
+def born_states(s):
+    """[(theta, omega, label)]: the attaining states of the stored values near s.kappa, in its window."""
+    from ..synthesis.results import stored
+
+    w, out = s.window, []
+    for row in stored().values():
+        if (row["kind"], row["reading"]) != (s.kind, s.reading) or abs(row["kappa"] - s.kappa) > 0.05:
+            continue
+        theta, omega = row["state"]
+        if s.reading == "circle":
+            theta = math.remainder(theta, 2 * math.pi)
+        label = f"κ_{row['n']} = {row['kappa']:.6f}: {row['n'] + 1} switches are born here (and at the mirror image)"
+        for th, om in ((theta, omega), (-theta, -omega)):
+            if w.theta_lo <= th <= w.theta_hi and w.omega_lo <= om <= w.omega_hi:
+                out.append((th, om, label if not out or out[-1][2] != label else None))
+    return out
+
+
+def draw_layers(fig, ax, s):
+    """The switch counts of a Synthesis `s` coloured on `ax`, its dispersal and switching curves, the
+    axes; returns the legend's (handles, labels) of the curves."""
     w = s.window
     top = max(3, int(s.N.max()) + 1)
     extra = top + 2 - len(COUNT_COLOURS)         # more switches than the named colours: darker purples
     cmap = ListedColormap(COUNT_COLOURS[:top + 2] + [plt.get_cmap("Purples")(0.85 + 0.15 * k / extra)
                                                      for k in range(1, extra + 1)])
     norm = BoundaryNorm(np.arange(-1.5, top + 1.5), cmap.N)
-    fig, ax = plt.subplots(figsize=(7.2, 4.8))
     image = ax.imshow(s.N.T, origin="lower", extent=(w.theta_lo, w.theta_hi, w.omega_lo, w.omega_hi),
                       aspect="auto", cmap=cmap, norm=norm, interpolation="nearest")
     bar = fig.colorbar(image, ax=ax, ticks=range(-1, top + 1))
@@ -54,11 +89,7 @@ def draw_map(s, marked=()):
         ax.plot(s.switch_points[:, 0], s.switch_points[:, 1], ".", color="#08306b", ms=1.0)
     handles = [ax.plot([], [], "s", color="black", ms=3)[0], ax.plot([], [], ".", color="#08306b")[0]]
     labels = ["dispersal curve (two optimal controls tie)", "switching curve (switch points of optimal extremals)"]
-    for theta, omega, label in marked:
-        handles.append(ax.plot(theta, omega, "o", mfc="none", mec="#d62728", ms=11, mew=1.6)[0])
-        labels.append(label)
     pi_ticks(ax.xaxis, w.theta_lo, w.theta_hi)
     ax.set(xlim=(w.theta_lo, w.theta_hi), ylim=(w.omega_lo, w.omega_hi), xlabel=r"$\theta$ (rad; 0 hanging, π upright)",
-           ylabel=r"$\omega$", title=f"{s.kind}, κ = {s.kappa:g}, on the {s.reading}: optimal switch count")
-    ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7)
-    return fig
+           ylabel=r"$\omega$")
+    return handles, labels

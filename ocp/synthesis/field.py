@@ -15,7 +15,8 @@ equal times; neighbouring extremals and times span quadrilaterals, split in two 
 s is interpolated linearly and drawn into the grid (the least s kept, `_raster`). A quadrilateral
 wider than MAX_CELLS grid cells is not drawn: its extremals are refined (a new psi between them)
 unless every grid cell at its corners already holds a value below its time (it is not optimal
-there), down to a spacing of MIN_SPACING. Interpolation error: the value of a drawn cell is within
+there) and it does not cross the window's edge (then its inside is not seen from its corners),
+down to a spacing of MIN_SPACING. Interpolation error: the value of a drawn cell is within
 the curvature of the field over a few cells, checked against the complete search at random states
 (`check`).
 
@@ -259,14 +260,28 @@ def _cells(grid, window, theta, omega, circle):
 
 @nb.njit(cache=True)
 def _undominated(V, grid, ra, rb, ts, wide, circle):
-    """Whether some corner of a wide quadrilateral lies in the grid (at any theta + 2 pi k on the
-    circle) where no value below its time (minus DOMINATED) is drawn yet: there the strip may be
-    optimal and must be refined."""
+    """Whether a wide quadrilateral may be optimal somewhere in the grid, so that it must be
+    refined: a corner lies in the grid (at any theta + 2 pi k on the circle) where no value below
+    its time (minus DOMINATED) is drawn yet, or the quadrilateral overlaps the grid with a corner
+    outside it (its inside is not seen from its corners)."""
     x0, dx, y0, dy = grid
     nx, ny = V.shape
+    x1, y1 = x0 + dx * (nx - 1), y0 + dy * (ny - 1)
     for j in range(wide.shape[0]):
         if not wide[j]:
             continue
+        xs = np.array([ra[j][0], rb[j][0], ra[j + 1][0], rb[j + 1][0]])
+        ys = np.array([ra[j][1], rb[j][1], ra[j + 1][1], rb[j + 1][1]])
+        if ys.max() >= y0 and ys.min() <= y1 and (ys.min() < y0 or ys.max() > y1):
+            return True
+        lo, hi = xs.min(), xs.max()
+        k0, k1 = 0, 0
+        if circle:
+            k0, k1 = int(math.ceil((x0 - hi) / (2 * math.pi))), int(math.floor((x1 - lo) / (2 * math.pi)))
+        for k in range(k0, k1 + 1):
+            sh = 2 * math.pi * k
+            if ys.max() >= y0 and ys.min() <= y1 and (lo + sh < x0 or hi + sh > x1):
+                return True
         for c in range(4):
             row = (ra[j], rb[j], ra[j + 1], rb[j + 1])[c]
             t = ts[j] if c < 2 else ts[j + 1]
@@ -349,13 +364,18 @@ def check(synthesis, count=20, seed=0):
 
 
 def save(synthesis, path):
-    """The Synthesis as a compressed numpy file (arrays and the settings)."""
+    """The Synthesis as a compressed numpy file (arrays and the settings), written whole
+    (`ocp.core.files`)."""
+    from ..core.files import replacing
+
     w = synthesis.window
-    np.savez_compressed(path, V=synthesis.V, N=synthesis.N, psi=synthesis.psi, branch=synthesis.branch,
-                        switch_points=synthesis.switch_points, dispersal=synthesis.dispersal,
-                        window=np.array([w.theta_lo, w.theta_hi, w.omega_lo, w.omega_hi, w.n_theta, w.n_omega]),
-                        meta=np.array([synthesis.kind, synthesis.reading, repr(synthesis.kappa), repr(synthesis.horizon),
-                                       str(synthesis.extremals), str(synthesis.unresolved), repr(synthesis.time_s)]))
+    with replacing(path, "wb") as f:
+        np.savez_compressed(f, V=synthesis.V, N=synthesis.N, psi=synthesis.psi, branch=synthesis.branch,
+                            switch_points=synthesis.switch_points, dispersal=synthesis.dispersal,
+                            window=np.array([w.theta_lo, w.theta_hi, w.omega_lo, w.omega_hi, w.n_theta, w.n_omega]),
+                            meta=np.array([synthesis.kind, synthesis.reading, repr(synthesis.kappa),
+                                           repr(synthesis.horizon), str(synthesis.extremals), str(synthesis.unresolved),
+                                           repr(synthesis.time_s)]))
     return path
 
 

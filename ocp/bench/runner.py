@@ -21,8 +21,10 @@ solver that raises, all stored with their status.
 import concurrent.futures as cf
 import contextlib
 import ctypes
+import gc
 import math
 import os
+import re
 import signal
 import statistics
 import sys
@@ -236,13 +238,16 @@ def executor(jobs=1, scheduler=None):
             import distributed
         except ImportError:
             raise InputError("--scheduler needs Dask distributed: pip install 'ocp[dask]'") from None
+        if not SCHEDULER.fullmatch(scheduler):
+            raise InputError(f"--scheduler {scheduler[:60]!r} is not a scheduler address; accepted: an address such as "
+                             f"tcp://host:8786 (tcp, tls, ws, wss, ucx)")
         try:
             client = distributed.Client(scheduler, timeout=10)
-        except (OSError, TimeoutError) as err:
+        except (OSError, TimeoutError, ValueError, TypeError) as err:
+            # the half-built Client is collected now: its __del__, run later inside another
+            # Client's start, deadlocks on the event loop's lock
+            gc.collect()
             raise InputError(f"cannot reach the Dask scheduler at {scheduler}: {last_line(err)}") from None
-        except (ValueError, TypeError) as err:
-            raise InputError(f"--scheduler {scheduler!r} is not a scheduler address ({last_line(err)}); accepted: "
-                             f"an address such as tcp://host:8786") from None
         with client:
             yield client.get_executor(), max(1, sum(client.nthreads().values())), f"dask {scheduler}"
     elif jobs == 1:
@@ -251,6 +256,9 @@ def executor(jobs=1, scheduler=None):
         with cf.ProcessPoolExecutor(jobs, initializer=die_with_parent, initargs=(os.getpid(),)) as pool:
             yield pool, jobs, f"{jobs} local worker processes"
 
+
+#: a Dask scheduler address: scheme://host:port
+SCHEDULER = re.compile(r"(tcp|tls|ws|wss|ucx)://[A-Za-z0-9.\-]+:[0-9]{1,5}|(tcp|tls|ws|wss|ucx)://\[[0-9A-Fa-f:]+\]:[0-9]{1,5}")
 
 PR_SET_PDEATHSIG = 1
 

@@ -12,6 +12,9 @@ Parts (all by default, in this order):
                       benchmarks/README.md; benchmarks/results/quick/ (charts, summary.md, results.csv)
     figures        ocp figures --out docs/figures --format png --only (the six paper figures, two maps)
                    -> the gallery of README.md
+    failure-maps   ocp failure-map swing-up --kappa 1 --grid 21 15 --jobs 2 for IPOPT, fatrop and
+                   sqpmethod (fair) -> benchmarks/results/failure-maps/, their table in
+                   benchmarks/README.md
     speed          python benchmarks/search_speed.py; python benchmarks/synthesis_speed.py
                    -> the search against the textbook method, the maps against per-state solves
                       (README.md)
@@ -45,7 +48,7 @@ REPORT = "benchmarks/results/quick"
 PAPER_FIGURES = ("finch-fig1", "finch-fig2", "finch-kappa-3-4", "batista-fig1", "pivot-histories", "pivot-chart",
                  "synthesis-swing-up-circle-0.29", "synthesis-swing-up-plane-1.0")
 #: part -> the files besides ocp/ whose change makes its results stale
-MEASURED = {"direct-error": ["benchmarks/direct_error.py"], "bench": [], "figures": [],
+MEASURED = {"direct-error": ["benchmarks/direct_error.py"], "bench": [], "figures": [], "failure-maps": [],
             "speed": ["benchmarks/search_speed.py", "benchmarks/synthesis_speed.py"], "bifurcation": [],
             "timings": []}
 #: the measured code: ocp/ without the data this script writes into it; the bifurcation values
@@ -56,6 +59,9 @@ CODE_OF = {"bifurcation": ["ocp/core/", "ocp/exact/", "ocp/indirect/", "ocp/synt
                            ":(exclude)ocp/synthesis/data"],
            "direct-error": ["ocp/__init__.py", "ocp/core/", "ocp/direct/", "ocp/exact/"]}
 BIFURCATION_STORE = "benchmarks/results/bifurcation.jsonl"
+FAILURE_MAPS = "benchmarks/results/failure-maps"
+#: the methods whose failure maps are published: (solver, configuration)
+MAPPED = (("ipopt", "default"), ("fatrop", "default"), ("sqpmethod", "fair"))
 BIFURCATION_DATA = "ocp/synthesis/data/bifurcation.jsonl"
 PARTS = tuple(MEASURED)
 
@@ -174,6 +180,29 @@ def figures(commit):
     return record
 
 
+def failure_maps(commit, jobs):
+    shutil.rmtree(ROOT / FAILURE_MAPS, ignore_errors=True)
+    record = {"commit": commit, "command": "", "seconds": 0.0, "environment": environment()}
+    lines = ["| method | cells | outcomes | wall time |", "| --- | --- | --- | --- |"]
+    images = []
+    for solver, configuration in MAPPED:
+        argv = ["failure-map", "swing-up", "--kappa", "1", "--N", "25", "--solver", solver, "--configuration",
+                configuration, "--grid", "21", "15", "--jobs", str(jobs), "--out", FAILURE_MAPS, "--json"]
+        shown = "ocp " + " ".join(argv[:-1])
+        seconds, out = run(ocp_command(*argv), shown)
+        result = json.loads(out)
+        record["command"] = f"{record['command']} && {shown}" if record["command"] else shown
+        record["seconds"] += seconds
+        outcomes = ", ".join(f"{k} {v}" for k, v in result["outcomes"].items())
+        lines.append(f"| {result['method']} | {sum(result['outcomes'].values())} | {outcomes} | {seconds:.0f} s |")
+        images += [Path(f).name for f in result["files"] if f.endswith(".png")]
+    commands = "\n".join(f"    {c}" for c in record["command"].split(" && "))
+    charts = "\n\n".join(f"![{name[:-4]}](results/failure-maps/{name})" for name in images)
+    replace_block(ROOT / "benchmarks" / "README.md", "failure-maps",
+                  f"{commands}\n\n" + "\n".join(lines) + f"\n\n{charts}\n\n{stamp(record)}")
+    return record
+
+
 def speed(commit):
     record = {"commit": commit, "command": "", "seconds": 0.0, "environment": environment()}
     for name, block in (("search_speed.py", "search-speed"), ("synthesis_speed.py", "synthesis-speed")):
@@ -211,7 +240,7 @@ def timings(commit, records, time_tests, previous):
                   "\n".join(["    $ ocp solve swing-up --kappa 0.75"] + [f"    {line}" for line in example]))
     totals = outputs["ocp verify"].rstrip().splitlines()[-1]
     replace_block(ROOT / "README.md", "verify-totals", f"    {totals}\n\n(`ocp verify` at commit {commit[:12]})")
-    for part in ("figures", "bench", "direct-error", "speed", "bifurcation"):
+    for part in ("figures", "bench", "direct-error", "failure-maps", "speed", "bifurcation"):
         r = records.get(part) or previous.get(part)
         if r:
             rows.append((r["command"].split(" && ")[0] if part == "bench" else r["command"], r["seconds"], r["commit"]))
@@ -259,6 +288,8 @@ def main():
             records[part] = bench(commit, args.jobs)
         elif part == "figures":
             records[part] = figures(commit)
+        elif part == "failure-maps":
+            records[part] = failure_maps(commit, args.jobs)
         elif part == "speed":
             records[part] = speed(commit)
         elif part == "bifurcation":

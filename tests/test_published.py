@@ -24,6 +24,7 @@ BLOCKS = {
     "direct-error": [("benchmarks/README.md", "direct-error")],
     "bench": [("benchmarks/README.md", "bench-run"), ("benchmarks/README.md", "bench-environment")],
     "figures": [("README.md", "figures")],
+    "failure-maps": [("benchmarks/README.md", "failure-maps")],
     "speed": [("README.md", "search-speed"), ("README.md", "synthesis-speed")],
     "bifurcation": [("README.md", "bifurcation")],
     "timings": [("README.md", "timings"), ("README.md", "verify-totals")],

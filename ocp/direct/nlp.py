@@ -109,8 +109,8 @@ def _nlp(settings, reading):
 
 
 def _solver_options(solver_name, options, settings, lbg, ubg):
-    """Quiet defaults under the user's options (which win): expand where the integrator allows it,
-    print levels off; fatrop is told which constraints are equalities."""
+    """CasADi's defaults, made quiet, under the user's options (which win): expand where the
+    integrator allows it, print levels off; fatrop is told which constraints are equalities."""
     opts = dict(options)
     if settings.symbolic == "SX":
         opts.setdefault("expand", True)
@@ -125,9 +125,10 @@ def _solver_options(solver_name, options, settings, lbg, ubg):
     elif solver_name in ("sqpmethod", "feasiblesqpmethod"):
         opts.setdefault("print_header", False)
         opts.setdefault("print_iteration", False)
-        opts.setdefault("qpsol", "qrqp")
-        opts.setdefault("qpsol_options", {"print_iter": False, "print_header": False, "error_on_fail": False})
-        opts.setdefault("hessian_approximation", "exact")
+        # CasADi's QP solver (qpOASES unless the user names another), silenced, a failed QP
+        # reported through the NLP's status instead of raised
+        quiet = {"qpoases": {"printLevel": "none"}, "qrqp": {"print_iter": False, "print_header": False}}
+        opts.setdefault("qpsol_options", {**quiet.get(opts.get("qpsol", "qpoases"), {}), "error_on_fail": False})
     elif solver_name == "bonmin":
         opts.setdefault("bonmin.print_level", 0)
     return opts

@@ -245,13 +245,9 @@ def _run_synthesis(args):
         if not args.json:
             print(f"[{n}/{len(kappas)}] {args.problem}, {reading}, kappa = {kappa:g} ...", file=sys.stderr, flush=True)
         s = synthesize(args.problem, kappa, reading, window, horizon)
-        try:
-            out.mkdir(parents=True, exist_ok=True)
-            save(s, data)
-            with plotting.style():
-                figures = plotting.save(draw_map(s), stem, formats)
-        except OSError as err:
-            raise Fault(f"cannot write the map to {out}: {err}") from None
+        save(s, data)                               # written whole, or a Fault (ocp.core.files)
+        with plotting.style():
+            figures = plotting.save(draw_map(s), stem, formats)
         result = dict(summary(s), files=[str(data)] + [str(f) for f in figures])
         if checks:
             rows = check(s, checks, seed=n)

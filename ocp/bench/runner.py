@@ -258,7 +258,7 @@ def executor(jobs=1, scheduler=None):
 
 
 #: a Dask scheduler address: scheme://host:port
-SCHEDULER = re.compile(r"(tcp|tls|ws|wss|ucx)://[A-Za-z0-9.\-]+:[0-9]{1,5}|(tcp|tls|ws|wss|ucx)://\[[0-9A-Fa-f:]+\]:[0-9]{1,5}")
+SCHEDULER = re.compile(r"(tcp|tls|ws|wss|ucx)://([A-Za-z0-9.\-]+|\[[0-9A-Fa-f:]+\]):[0-9]{1,5}")
 
 PR_SET_PDEATHSIG = 1
 

@@ -272,16 +272,16 @@ def _undominated(V, grid, ra, rb, ts, wide, circle):
             continue
         xs = np.array([ra[j][0], rb[j][0], ra[j + 1][0], rb[j + 1][0]])
         ys = np.array([ra[j][1], rb[j][1], ra[j + 1][1], rb[j + 1][1]])
-        if ys.max() >= y0 and ys.min() <= y1 and (ys.min() < y0 or ys.max() > y1):
-            return True
-        lo, hi = xs.min(), xs.max()
-        k0, k1 = 0, 0
-        if circle:
-            k0, k1 = int(math.ceil((x0 - hi) / (2 * math.pi))), int(math.floor((x1 - lo) / (2 * math.pi)))
-        for k in range(k0, k1 + 1):
-            sh = 2 * math.pi * k
-            if ys.max() >= y0 and ys.min() <= y1 and (lo + sh < x0 or hi + sh > x1):
+        if ys.max() >= y0 and ys.min() <= y1:                 # it overlaps the grid's rows
+            if ys.min() < y0 or ys.max() > y1:
                 return True
+            lo, hi = xs.min(), xs.max()
+            k0, k1 = 0, 0
+            if circle:
+                k0, k1 = int(math.ceil((x0 - hi) / (2 * math.pi))), int(math.floor((x1 - lo) / (2 * math.pi)))
+            for k in range(k0, k1 + 1):
+                if lo + 2 * math.pi * k < x0 or hi + 2 * math.pi * k > x1:
+                    return True
         for c in range(4):
             row = (ra[j], rb[j], ra[j + 1], rb[j + 1])[c]
             t = ts[j] if c < 2 else ts[j + 1]

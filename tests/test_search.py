@@ -5,7 +5,6 @@ uniform grid (BRUTE points per admissible interval), no adaptivity, every sign c
 point's angle minus a target angle between neighbouring samples solved by Brent's method. The
 search must find its least time, and every arrival it finds before the search's horizon."""
 
-import math
 
 import numpy as np
 import pytest

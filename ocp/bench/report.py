@@ -43,8 +43,6 @@ import statistics
 from collections import Counter, defaultdict
 from pathlib import Path
 
-import numpy as np
-
 from ..core import plotting
 from ..core.files import folder, write_text
 from ..core.numbers import order

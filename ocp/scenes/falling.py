@@ -49,7 +49,6 @@ not reproduced. Here the closed form and the quadrature agree to ~1e-16 at every
 """
 
 import math
-from dataclasses import replace
 
 import casadi as ca
 import numpy as np

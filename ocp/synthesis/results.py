@@ -9,7 +9,7 @@ import json
 import math
 import time
 
-from ..core.errors import Fault, InputError
+from ..core.errors import Fault
 from ..core.numbers import plus_minus
 from ..core.provenance import git_commit
 from .bifurcation import bifurcation

@@ -18,12 +18,23 @@ TRANSCRIPTIONS = {
 }
 
 
+def settings():
+    """Every transcription setting by name, as declared (`Setting`): the command line's flags.
+    A name that several transcriptions take (N) is declared alike in each."""
+    declared = {}
+    for cls in TRANSCRIPTIONS.values():
+        for setting in cls.SETTINGS:
+            if declared.setdefault(setting.name, setting) != setting:
+                raise AssertionError(f"setting {setting.name} is declared differently by two transcriptions")
+    return declared
+
+
 def make(name, **settings):
     """The transcription `name` with `settings` (only those given; each must apply to it)."""
     if name not in TRANSCRIPTIONS:
         raise InputError(f"unknown transcription {name!r}; accepted: {', '.join(TRANSCRIPTIONS)}")
     cls = TRANSCRIPTIONS[name]
-    known = {f for c in TRANSCRIPTIONS.values() for f in c.__dataclass_fields__}
+    known = {s.name for c in TRANSCRIPTIONS.values() for s in c.SETTINGS}
     unknown = sorted(set(settings) - known)
     if unknown:
         raise InputError(f"unknown transcription setting(s) {', '.join(unknown)}; accepted: {', '.join(sorted(known))}")
@@ -35,5 +46,5 @@ def make(name, **settings):
     return transcription
 
 
-__all__ = ["TRANSCRIPTIONS", "INTEGRATORS", "MultipleShooting", "DirectCollocation", "Guess", "default_guesses",
+__all__ = ["TRANSCRIPTIONS", "settings", "INTEGRATORS", "MultipleShooting", "DirectCollocation", "Guess", "default_guesses",
            "random_guess", "solve", "make", "DirectSolution", "DirectStatus", "MESSAGES", "MISS_TOL", "MISS_TOL_RANGE"]

@@ -7,7 +7,9 @@ stagewise, as structure-exploiting solvers (fatrop) require. A transcription is 
 dataclass (plain data: it travels to worker processes) and implements:
 
     1. `name`: its key in `ocp.direct.TRANSCRIPTIONS`
-    2. its settings as dataclass fields, checked in `__post_init__` (InputError)
+    2. its settings as dataclass fields, each declared in `SETTINGS` (a `Setting`: type, range,
+       help; the command line's flags are made from them) and checked by `check_settings()` in
+       `__post_init__` (InputError)
     3. `applicable()`: the names of the settings that apply (an option given that does not apply is
        an error, not ignored: `ocp.direct.make`)
     4. `extra`: NLP variables per stage besides z_k and u_k (e.g. collocation states)
@@ -17,20 +19,58 @@ dataclass (plain data: it travels to worker processes) and implements:
     7. `describe()`: one line for summaries; `family()`: the short label of charts without N
 """
 
-from dataclasses import asdict, fields
+from dataclasses import asdict, dataclass, fields
 
-from ..core.errors import InputError, integer
+from ..core.errors import InputError, finite, integer
 
 N_MAX = 5000     # the NLP of N = 5000 (rk4, M = 4) takes about 1 GB to build; larger is refused
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One setting of a transcription: its type (int, float or str), default, range or choices, and
+    a one-line help. The command line's `--NAME` flags, their help and their checks are made from
+    these (`ocp.direct.settings()`)."""
+
+    name: str
+    kind: type
+    default: object
+    help: str
+    low: float | None = None
+    high: float | None = None
+    choices: tuple = ()
+
+    def accepted(self):
+        """What the setting accepts, in words."""
+        if self.choices:
+            return f"one of {', '.join(map(str, self.choices))}"
+        what = {int: "an integer", float: "a number"}[self.kind]
+        return f"{what} from {self.low:g} to {self.high:g}"
+
+    def parse(self, value):
+        """`value` (text or a number) as the setting's type, checked; InputError names the setting
+        and what it accepts."""
+        accepted = f"{self.accepted()} ({self.help})"
+        if self.choices:
+            if value not in self.choices:
+                raise InputError(f"{self.name} = {str(value)[:40]!r} is not accepted; {self.name} accepts {accepted}")
+            return value
+        if self.kind is int:
+            return integer(self.name, value, accepted, self.low, self.high)
+        return finite(self.name, value, accepted, self.low, self.high)
 
 
 class Transcription:
     name = ""
     extra = 0
     symbolic = "SX"          # "MX" where an integrator call cannot be expanded (cvodes)
+    #: every setting the transcription can take (the dataclass fields), with type, range and help
+    SETTINGS = ()
 
-    def check_N(self):
-        integer("N", self.N, f"an integer from 2 to {N_MAX} (intervals)", 2, N_MAX)
+    def check_settings(self):
+        """Each setting's value checked by its declaration (InputError)."""
+        for setting in self.SETTINGS:
+            setting.parse(getattr(self, setting.name))
 
     def applicable(self):
         return tuple(f.name for f in fields(self))

@@ -11,8 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import model
-from ..core.errors import integer
-from .base import Transcription
+from .base import N_MAX, Setting, Transcription
 
 
 def radau_matrices(degree):
@@ -39,10 +38,13 @@ class DirectCollocation(Transcription):
     degree: int = 3
 
     name = "direct-collocation"
+    SETTINGS = (
+        Setting("N", int, 100, "intervals", 2, N_MAX),
+        Setting("degree", int, 3, "Radau points per interval", 1, 9),
+    )
 
     def __post_init__(self):
-        self.check_N()
-        integer("degree", self.degree, "an integer from 1 to 9 (Radau points per interval)", 1, 9)
+        self.check_settings()
 
     @property
     def extra(self):

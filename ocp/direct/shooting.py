@@ -10,8 +10,7 @@ A new integrator: a function (settings) -> F(x, u, h, kappa) and one line in INT
 from dataclasses import dataclass
 
 from ..core import model
-from ..core.errors import InputError, finite, integer
-from .base import Transcription
+from .base import N_MAX, Setting, Transcription
 
 M_MAX = 64
 
@@ -74,13 +73,15 @@ class MultipleShooting(Transcription):
     tol: float = 1e-10
 
     name = "multiple-shooting"
+    SETTINGS = (
+        Setting("N", int, 100, "intervals", 2, N_MAX),
+        Setting("integrator", str, "rk4", "the integrator over each interval", choices=tuple(INTEGRATORS)),
+        Setting("M", int, 4, "rk4 steps or collocation elements per interval", 1, M_MAX),
+        Setting("tol", float, 1e-10, "cvodes relative and absolute tolerance", 1e-14, 1e-3),
+    )
 
     def __post_init__(self):
-        self.check_N()
-        if self.integrator not in INTEGRATORS:
-            raise InputError(f"unknown integrator {self.integrator!r}; accepted: {', '.join(INTEGRATORS)}")
-        integer("M", self.M, f"an integer from 1 to {M_MAX} (integrator steps per interval)", 1, M_MAX)
-        finite("tol", self.tol, "a number in [1e-14, 1e-3] (CVODES relative and absolute tolerance)", 1e-14, 1e-3)
+        self.check_settings()
 
     @property
     def symbolic(self):

@@ -25,11 +25,13 @@ Parts (all by default, in this order):
                    with the times of the parts above -> the table "How long things take" in README.md
 
 Each part records, in benchmarks/results/published.json, the commit it measured, the command, the
-environment (`ocp.bench.environment`) and the time; the generated blocks of the two READMEs are
+environment (`ocp.bench.environment`), the time, and the code it ran: every project file its
+commands imported, keyed by the hash of its code (`benchmarks/measured.py`: docstrings and help
+texts do not count), and the package data (`data`). The generated blocks of the two READMEs are
 marked and carry the same commit. The measured code must be committed first (the script refuses
 uncommitted changes under ocp/ or benchmarks/*.py, so that the commit recorded is the code that
-ran); then commit what it wrote. tests/test_published.py fails once a later commit changes the
-measured code (`git log <recorded>..HEAD -- ocp/ <the part's script>`): rerun this script.
+ran); then commit what it wrote. tests/test_published.py fails once the code a part ran, or the
+data, differs from what it recorded: rerun this script for that part (`--only PART`).
 """
 
 import argparse
@@ -38,8 +40,11 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
+
+from measured import data_hashes
 
 ROOT = Path(__file__).resolve().parents[1]
 MANIFEST = ROOT / "benchmarks" / "results" / "published.json"
@@ -47,23 +52,14 @@ STORE = "benchmarks/results/quick.sqlite"
 REPORT = "benchmarks/results/quick"
 PAPER_FIGURES = ("finch-fig1", "finch-fig2", "finch-kappa-3-4", "batista-fig1", "pivot-histories", "pivot-chart",
                  "synthesis-swing-up-circle-0.29", "synthesis-swing-up-plane-1.0")
-#: part -> the files besides ocp/ whose change makes its results stale
-MEASURED = {"direct-error": ["benchmarks/direct_error.py"], "bench": [], "figures": [], "failure-maps": [],
-            "speed": ["benchmarks/search_speed.py", "benchmarks/synthesis_speed.py"], "bifurcation": [],
-            "timings": []}
-#: the measured code: ocp/ without the data this script writes into it; the bifurcation values
-#: and the N-sweep rest on the layers they run (the model, the search, the synthesis; the direct
-#: transcriptions and the formulas)
-CODE = ["ocp/", ":(exclude)ocp/synthesis/data"]
-CODE_OF = {"bifurcation": ["ocp/core/", "ocp/exact/", "ocp/indirect/", "ocp/synthesis/",
-                           ":(exclude)ocp/synthesis/data"],
-           "direct-error": ["ocp/__init__.py", "ocp/core/", "ocp/direct/", "ocp/exact/"]}
 BIFURCATION_STORE = "benchmarks/results/bifurcation.jsonl"
 FAILURE_MAPS = "benchmarks/results/failure-maps"
 #: the methods whose failure maps are published: (solver, configuration)
 MAPPED = (("ipopt", "default"), ("fatrop", "default"), ("sqpmethod", "fair"))
 BIFURCATION_DATA = "ocp/synthesis/data/bifurcation.jsonl"
-PARTS = tuple(MEASURED)
+PARTS = ("direct-error", "bench", "figures", "failure-maps", "speed", "bifurcation", "timings")
+#: the code the current part's commands ran: file -> code hash (benchmarks/measured.py)
+RAN = {}
 
 
 def git(*args):
@@ -76,14 +72,19 @@ def ocp_command(*args):
 
 
 def run(argv, shown, capture=True):
-    """Run argv (printed as `shown`), return (seconds, stdout); stderr passes through."""
+    """Run argv, a Python command line (printed as `shown`), through benchmarks/measured.py, which
+    records the code it imports (into RAN); return (seconds, stdout); stderr passes through."""
     print(f"publish: {shown}", file=sys.stderr, flush=True)
-    start = time.perf_counter()
-    proc = subprocess.run(argv, cwd=ROOT, stdout=subprocess.PIPE if capture else None, text=True,
-                          env={**os.environ, "PYTHONPATH": str(ROOT / "benchmarks")})
-    seconds = time.perf_counter() - start
-    if proc.returncode != 0:
-        sys.exit(f"publish: `{shown}` failed (exit {proc.returncode}); nothing recorded for this part")
+    with tempfile.TemporaryDirectory() as folder:
+        record = Path(folder) / "ran.json"
+        start = time.perf_counter()
+        proc = subprocess.run([argv[0], str(ROOT / "benchmarks" / "measured.py"), str(record), "--", *argv[1:]],
+                              cwd=ROOT, stdout=subprocess.PIPE if capture else None, text=True,
+                              env={**os.environ, "PYTHONPATH": str(ROOT / "benchmarks")})
+        seconds = time.perf_counter() - start
+        if proc.returncode != 0:
+            sys.exit(f"publish: `{shown}` failed (exit {proc.returncode}); nothing recorded for this part")
+        RAN.update(json.loads(record.read_text()))
     return seconds, proc.stdout
 
 
@@ -282,6 +283,7 @@ def main():
     previous = json.loads(MANIFEST.read_text()) if MANIFEST.exists() else {}
     records = {}
     for part in args.only or PARTS:
+        RAN.clear()
         if part == "direct-error":
             records[part] = direct_error(commit, args.jobs)
         elif part == "bench":
@@ -296,8 +298,9 @@ def main():
             records[part] = bifurcation(commit, args.jobs)
         else:
             records[part] = timings(commit, records, args.time_tests, previous)
+        records[part].update(code=dict(sorted(RAN.items())), data=data_hashes())
     manifest = {**previous, **records}
-    manifest = {p: dict(manifest[p], measured=[*CODE_OF.get(p, CODE), *MEASURED[p]]) for p in PARTS if p in manifest}
+    manifest = {p: manifest[p] for p in PARTS if p in manifest}
     MANIFEST.write_text(json.dumps(manifest, indent=1) + "\n")
     print(f"publish: wrote {MANIFEST.relative_to(ROOT)} ({', '.join(records)} at {commit[:12]}); commit the results",
           file=sys.stderr)

@@ -1,18 +1,13 @@
 """The published tables and figures (benchmarks/README.md, README.md, benchmarks/results/quick/,
 docs/figures/) are those of the code as it stands: each part of `python benchmarks/publish.py`
-records the commit it measured (benchmarks/results/published.json), and no later commit may change
-the measured code (`git log <recorded>..HEAD -- ocp/ <the part's script>`, the data publish.py writes
-into ocp/ excepted). When this fails, rerun
-`python benchmarks/publish.py` on the committed code and commit what it writes.
+records the code it ran (benchmarks/results/published.json: every project file its commands
+imported, keyed by the hash of its code without docstrings and help texts, `benchmarks/measured.py`;
+and the package data), and that code must be what the tree holds now. When this fails, rerun
+`python benchmarks/publish.py --only PART` on the committed code and commit what it writes."""
 
-Needs git and the history back to the recorded commits (a clone with full history; a shallow CI
-checkout must fetch it). Outside a git work tree (an unpacked sdist) there is nothing to compare,
-and the test says so by skipping."""
-
+import importlib.util
 import json
 import re
-import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -29,14 +24,6 @@ BLOCKS = {
     "bifurcation": [("README.md", "bifurcation")],
     "timings": [("README.md", "timings"), ("README.md", "verify-totals")],
 }
-
-
-def git(*args):
-    return subprocess.run(["git", "-C", str(ROOT), *args], capture_output=True, text=True)
-
-
-def in_git_work_tree():
-    return shutil.which("git") is not None and git("rev-parse", "--is-inside-work-tree").stdout.strip() == "true"
 
 
 def block(path, name):
@@ -71,17 +58,33 @@ def test_the_published_files_exist(manifest):
     assert len(figures) == 8 and all((ROOT / "docs/figures" / f"{f}.png").is_file() for f in figures)
 
 
-@pytest.mark.skipif(not in_git_work_tree(), reason="not a git work tree: no history to compare the results with")
+def _measured():
+    spec = importlib.util.spec_from_file_location("measured", ROOT / "benchmarks" / "measured.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 @pytest.mark.parametrize("part", list(BLOCKS))
-def test_no_commit_since_the_published_one_changes_the_measured_code(manifest, part):
+def test_the_code_and_data_each_part_ran_are_unchanged(manifest, part):
+    measured = _measured()
     record = manifest[part]
-    commit = record["commit"]
-    exists = git("cat-file", "-e", f"{commit}^{{commit}}")
-    shallow = git("rev-parse", "--is-shallow-repository").stdout.strip() == "true"
-    assert exists.returncode == 0, (f"{part}: the recorded commit {commit} is not in this history"
-                                    + (" (a shallow clone: fetch the full history)" if shallow else
-                                       ": publish from a commit of this branch"))
-    later = git("log", "--format=%h %s", f"{commit}..HEAD", "--", *record["measured"]).stdout.strip()
-    assert not later, (f"{part} was published at {commit[:12]}; since then these commits changed the measured code "
-                       f"({', '.join(record['measured'])}); rerun `python benchmarks/publish.py` and commit "
-                       f"its output:\n{later}")
+    assert record.get("code"), f"{part}: no record of the code it ran; rerun `python benchmarks/publish.py --only {part}`"
+    changed = [f for f, h in record["code"].items() if not (ROOT / f).is_file() or measured.code_hash(ROOT / f) != h]
+    data = measured.data_hashes()
+    changed += [f"{f} (data)" for f in sorted(set(data) | set(record["data"])) if data.get(f) != record["data"].get(f)]
+    assert not changed, (f"{part} was published at {record['commit'][:12]}; since then the code or data it ran "
+                         f"changed: {', '.join(changed)}; rerun `python benchmarks/publish.py --only {part}` and "
+                         f"commit its output")
+
+
+def test_a_docstring_or_a_help_text_is_not_code(tmp_path):
+    measured = _measured()
+    before = tmp_path / "a.py"
+    before.write_text('"""A module."""\ndef f(p):\n    """Doc."""\n    p.add_argument("--n", help="old")\n'
+                      '    return 1  # a comment\n')
+    after = tmp_path / "b.py"
+    after.write_text('"""Another text."""\ndef f(p):\n    p.add_argument("--n", help="new " + "text")\n    return 1\n')
+    changed = tmp_path / "c.py"
+    changed.write_text('def f(p):\n    p.add_argument("--n", default=2, help="new")\n    return 1\n')
+    assert measured.code_hash(before) == measured.code_hash(after) != measured.code_hash(changed)

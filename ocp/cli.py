@@ -53,6 +53,11 @@ def _add_solve(sub):
                                           "damping: 2 pi K); default: the circle, any branch")
     reading.add_argument("--plane", action="store_true", help="solve on the plane, the standard target (branch 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--sample", metavar="DT", help="sample the answer every DT time units, every switch and T "
+                                                  "included (t, theta, omega, u, p1, p2): with --csv or --json")
+    p.add_argument("--csv", metavar="FILE", help="write the samples of --sample as CSV")
+    p.add_argument("--plot", metavar="FILE", help="draw the solution (phase portrait; theta, omega, u against t; "
+                                                 "the direct answer overlaid): FILE.png, .pdf or .svg")
     d = p.add_argument_group("direct transcription (classified against the search's optimum)")
     d.add_argument("--direct", action="store_true", help="also solve a direct transcription and classify it")
     d.add_argument("--no-refine", action="store_true",
@@ -111,13 +116,18 @@ def _run_solve(args):
     miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, f"a number from {low:g} to {high:g}",
                                                          low, high)
     from . import solving as solve_module
+    from .figures.solution import Export
+    export = Export.of(args.sample, args.csv, args.plot, args.json)
     with solver_output("stderr"):
         result = solve_module.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,
                                     search=not args.no_refine, trusted=args.allow_unsafe_options)
+    exported, lines = export.write(result)
     if args.json:
-        print_json(result.to_dict())
+        print_json(dict(result.to_dict(), **exported))
+        for line in lines:
+            print(line, file=sys.stderr)
     else:
-        print(result.summary())
+        print("\n".join([result.summary(), *lines]))
     return 0 if result.success else 1
 
 
@@ -382,6 +392,15 @@ def _run_bifurcation(args):
     return 0
 
 
+def _version():
+    """The installed package's version (importlib.metadata), or "unknown" where it is not installed."""
+    from importlib import metadata
+    try:
+        return metadata.version("ocp")
+    except metadata.PackageNotFoundError:
+        return "unknown"
+
+
 def _one_line(err):
     """An error's message on one line (a value quoted in it may hold line breaks)."""
     return str(err).replace("\r", "\\r").replace("\n", "\\n")
@@ -389,6 +408,7 @@ def _one_line(err):
 
 def main(argv=None):
     parser = _Parser(prog="ocp", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"ocp {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_solve(sub)
     _add_verify(sub)

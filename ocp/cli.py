@@ -21,9 +21,15 @@ class _Parser(argparse.ArgumentParser):
     """argparse, with a usage error as one line and exit status 2, and negative numbers in
     e-notation (-1e-3) read as numbers, not options."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args, epilog_from=None, **kwargs):
         super().__init__(*args, **kwargs)
+        self.epilog_from = epilog_from          # a function giving the epilog, called only for --help
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+    def format_help(self):
+        if self.epilog_from is not None:
+            self.epilog = self.epilog_from()
+        return super().format_help()
 
     def error(self, message):
         raise InputError(f"{self.prog}: {message}")
@@ -154,7 +160,8 @@ def _run_verify(args):
 
 
 def _add_figures(sub):
-    p = sub.add_parser("figures", help="the papers' figures from the suite's own computations, and the benchmark charts")
+    p = sub.add_parser("figures", help="the papers' figures from the suite's own computations, and the benchmark charts",
+                       epilog_from=_figure_names, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default="figures", help="folder for the files, default ./figures")
     p.add_argument("--only", action="append", metavar="NAME", help="only this figure (repeatable; a wrong name lists them all)")
     p.add_argument("--format", default="png,pdf", help="comma separated: png, pdf, svg; default png,pdf")
@@ -164,12 +171,18 @@ def _add_figures(sub):
     p.set_defaults(run=_run_figures)
 
 
+def _figure_names():
+    from .figures import listing
+    return listing()
+
+
 def _run_figures(args):
     from . import figures
     from .core.output import solver_output
 
     with solver_output("stderr"):
-        written = figures.write(args.out, args.only, tuple(f.strip() for f in args.format.split(",")), args.store)
+        written = figures.write(args.out, args.only, tuple(f.strip() for f in args.format.split(",")), args.store,
+                                progress=sys.stderr)
     for name, paths in written.items():
         print(f"{name}: {paths}" if isinstance(paths, str) else f"{name}: {', '.join(map(str, paths))}")
     return 0

@@ -178,7 +178,7 @@ def test_command_line(tmp_path, capsys):
     assert cli.main(args + ["--out", str(tmp_path / "a")]) == 0
     assert cli.main(args + ["--out", str(tmp_path / "b")]) == 0
     files = sorted(p.name for p in (tmp_path / "a").iterdir())
-    assert "batista-fig1.png" in files and "profiles_time.pdf" in files and "profiles_accuracy.png" in files
+    assert "batista-fig1.png" in files and "profile_time.pdf" in files and "profile_accuracy.png" in files
     assert sum(name.startswith("work_precision_") for name in files) == 4          # 2 cases, png + pdf
     for name in files:
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name

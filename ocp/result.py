@@ -279,7 +279,7 @@ class Solution:
         """What this result is, in one sentence."""
         if not self.success:
             return f"no solution: {self.message}"
-        if self.answer is None:
+        if self.best.source is Source.DIRECT:
             return self.message
         if self.answer.solved == "exact":
             return "the start is on the target: T = 0, no control needed"

@@ -4,10 +4,14 @@ coloured, the switching curves (switch points of optimal extremals) and the disp
 switches is born marked, for kappa just below and just above the value."""
 
 import math
+from dataclasses import dataclass
 
 import matplotlib.pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.patches import Rectangle
+from matplotlib.ticker import MaxNLocator, ScalarFormatter
 import numpy as np
+from scipy.ndimage import label
 
 from ..synthesis.field import Window, synthesize
 from .ticks import pi_ticks
@@ -34,44 +38,123 @@ def map_data(kind, reading, kappa, window, horizon, resolution=(601, 361)):
     return synthesize(kind, kappa, reading, Window(*window, *resolution), horizon)
 
 
-def draw_map(s, marked=None):
-    """The figure of a Synthesis `s`; `marked`: states (theta, omega, label) to ring, by default
-    where the region of n + 1 switches is born for each stored bifurcation value kappa_n of the
-    same problem and reading within 0.05 of s.kappa (the state and its mirror image)."""
-    marked = born_states(s) if marked is None else marked
-    fig, ax = plt.subplots(figsize=(7.2, 4.8))
+#: half-widths (theta, omega) of the neighbourhood of an attaining state searched for its region,
+#: and the least half-widths of a zoom
+NEAR, LEAST = (0.6, 0.6), (0.12, 0.12)
+ZOOM_COLOUR = "#d62728"
+
+
+@dataclass(frozen=True)
+class Born:
+    """Where the region of `switches` switches is born at a bifurcation value `kappa_n` (`label`),
+    in a Synthesis: the attaining `state` (theta, omega) in the window (and its `mirror` image, the
+    same region by the symmetry (theta, omega) -> (-theta, -omega)), the `cells` of that count
+    in the connected region nearest it (within NEAR), their area (rad^2 per time unit), and the zoom
+    (theta_lo, theta_hi, omega_lo, omega_hi) that shows them."""
+
+    label: str
+    kappa_n: float
+    switches: int
+    state: tuple
+    mirror: tuple | None
+    cells: int
+    area: float
+    zoom: tuple
+
+    def describe(self):
+        if self.cells:
+            return (f"N = {self.switches} region near the state: {self.cells} cells of the grid, "
+                    f"about {self.area:.2g} rad²/time unit")
+        return f"no cell with N = {self.switches} near the state"
+
+
+def born_regions(s):
+    """[Born] of the stored bifurcation values within 0.05 of s.kappa (same problem and reading)
+    whose attaining state is in the window."""
+    from ..synthesis.results import stored
+
+    w, out = s.window, []
+    dt, dw = w.steps
+    theta, omega = np.meshgrid(w.theta, w.omega, indexing="ij")
+    for row in stored().values():
+        if (row["kind"], row["reading"]) != (s.kind, s.reading) or abs(row["kappa"] - s.kappa) > 0.05:
+            continue
+        th, om = row["state"]
+        if s.reading == "circle":
+            th = math.remainder(th, 2 * math.pi)
+        inside = [(a, b) for a, b in ((th, om), (-th, -om))
+                  if w.theta_lo <= a <= w.theta_hi and w.omega_lo <= b <= w.omega_hi]
+        if not inside:
+            continue
+        (th, om), n = inside[0], row["n"] + 1
+        near = _region(s.N == n, (theta - th) / NEAR[0], (omega - om) / NEAR[1])
+        cells = int(near.sum())
+        if cells:
+            t_lo, t_hi, w_lo, w_hi = theta[near].min(), theta[near].max(), omega[near].min(), omega[near].max()
+            ct, cw = 0.5 * (t_lo + t_hi), 0.5 * (w_lo + w_hi)
+            ht, hw = max(0.75 * (t_hi - t_lo) + 2 * dt, LEAST[0]), max(0.75 * (w_hi - w_lo) + 2 * dw, LEAST[1])
+        else:
+            ct, cw, (ht, hw) = th, om, LEAST
+        zoom = (max(ct - ht, w.theta_lo), min(ct + ht, w.theta_hi), max(cw - hw, w.omega_lo), min(cw + hw, w.omega_hi))
+        out.append(Born(f"κ_{row['n']} = {row['kappa']:.6f}", row["kappa"], n, (th, om),
+                        inside[1] if len(inside) > 1 else None, cells, cells * dt * dw, zoom))
+    return out
+
+
+def _region(mask, x, y):
+    """The connected part (8 neighbours) of `mask` nearest the origin of the scaled offsets (x, y),
+    if any cell of it lies within |x|, |y| <= 1; else nothing."""
+    parts, count = label(mask, structure=np.ones((3, 3)))
+    distance = np.where(mask, np.maximum(abs(x), abs(y)), np.inf)
+    nearest = np.unravel_index(np.argmin(distance), mask.shape)
+    if not count or distance[nearest] > 1:
+        return np.zeros_like(mask)
+    return parts == parts[nearest]
+
+
+def draw_map(s):
+    """The figure of a Synthesis `s`; where the region of n + 1 switches is born at a stored
+    bifurcation value kappa_n within 0.05 of s.kappa (`born_regions`), a zoom beside the map on
+    the attaining state, its frame on the map (and at the mirror image), the region outlined and
+    its size said, or that it is absent on this side of kappa_n."""
+    regions = born_regions(s)
+    fig = plt.figure(figsize=(7.2 + 3.4 * bool(regions), 4.8))
+    grid = fig.add_gridspec(1, 2, width_ratios=(7.2, 3.0), wspace=0.4) if regions else None
+    ax = fig.add_subplot(grid[0, 0]) if regions else fig.add_subplot()
     handles, labels = draw_layers(fig, ax, s)
-    for theta, omega, label in marked:
-        ring = ax.plot(theta, omega, "o", mfc="none", mec="#d62728", ms=11, mew=1.6)[0]
-        if label:
-            handles.append(ring)
-            labels.append(label)
+    for k, born in enumerate(regions):
+        n = born.switches
+        side = "below" if s.kappa < born.kappa_n else "above"
+        z = born.zoom
+        frames = [z] + ([] if born.mirror is None or (z[0] <= born.mirror[0] <= z[1] and z[2] <= born.mirror[1] <= z[3])
+                        else [(-z[1], -z[0], -z[3], -z[2])])
+        for lo_t, hi_t, lo_w, hi_w in frames:
+            ax.add_patch(Rectangle((lo_t, lo_w), hi_t - lo_t, hi_w - lo_w, fill=False, ec=ZOOM_COLOUR, lw=1.4, zorder=5))
+        if born.cells:
+            ax.contour(s.window.theta, s.window.omega, (s.N == n).T.astype(float), levels=[0.5], colors=ZOOM_COLOUR,
+                       linewidths=1.0, zorder=6)
+        handles.append(ax.plot([], [], "s", mfc="none", mec=ZOOM_COLOUR, ms=9, mew=1.4)[0])
+        labels.append(f"{born.label}: where {n} switches are born (+, and its mirror image), zoomed at the right")
+        zoom_ax = fig.add_subplot(grid[0, 1])
+        draw_layers(fig, zoom_ax, s, colorbar=False)
+        if born.cells:
+            zoom_ax.contour(s.window.theta, s.window.omega, (s.N == n).T.astype(float), levels=[0.5],
+                            colors=ZOOM_COLOUR, linewidths=1.2)
+        zoom_ax.plot(*born.state, "+", color="black", ms=12, mew=1.6, zorder=6)
+        zoom_ax.set(xlim=born.zoom[:2], ylim=born.zoom[2:], xlabel=r"$\theta$", ylabel=r"$\omega$")
+        zoom_ax.xaxis.set_major_locator(MaxNLocator(4))
+        zoom_ax.xaxis.set_major_formatter(ScalarFormatter())
+        for spine in zoom_ax.spines.values():
+            spine.set(edgecolor=ZOOM_COLOUR, linewidth=1.4)
+        zoom_ax.set_title(f"zoom: κ = {s.kappa:g} is {side} {born.label}\n{born.describe()}", fontsize=8)
     ax.set_title(f"{s.kind}, κ = {s.kappa:g}, on the {s.reading}: optimal switch count")
     ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7)
     return fig
 
 
-def born_states(s):
-    """[(theta, omega, label)]: the attaining states of the stored values near s.kappa, in its window."""
-    from ..synthesis.results import stored
-
-    w, out = s.window, []
-    for row in stored().values():
-        if (row["kind"], row["reading"]) != (s.kind, s.reading) or abs(row["kappa"] - s.kappa) > 0.05:
-            continue
-        theta, omega = row["state"]
-        if s.reading == "circle":
-            theta = math.remainder(theta, 2 * math.pi)
-        label = f"κ_{row['n']} = {row['kappa']:.6f}: {row['n'] + 1} switches are born here (and at the mirror image)"
-        for th, om in ((theta, omega), (-theta, -omega)):
-            if w.theta_lo <= th <= w.theta_hi and w.omega_lo <= om <= w.omega_hi:
-                out.append((th, om, label if not out or out[-1][2] != label else None))
-    return out
-
-
-def draw_layers(fig, ax, s):
-    """The switch counts of a Synthesis `s` coloured on `ax`, its dispersal and switching curves, the
-    axes; returns the legend's (handles, labels) of the curves."""
+def draw_layers(fig, ax, s, colorbar=True):
+    """The switch counts of a Synthesis `s` coloured on `ax` (with their colour bar), its dispersal and
+    switching curves, the axes; returns the legend's (handles, labels) of the curves."""
     w = s.window
     top = max(3, int(s.N.max()) + 1)
     extra = top + 2 - len(COUNT_COLOURS)         # more switches than the named colours: darker purples
@@ -80,9 +163,10 @@ def draw_layers(fig, ax, s):
     norm = BoundaryNorm(np.arange(-1.5, top + 1.5), cmap.N)
     image = ax.imshow(s.N.T, origin="lower", extent=(w.theta_lo, w.theta_hi, w.omega_lo, w.omega_hi),
                       aspect="auto", cmap=cmap, norm=norm, interpolation="nearest")
-    bar = fig.colorbar(image, ax=ax, ticks=range(-1, top + 1))
-    bar.ax.set_yticklabels(["not reached"] + [str(n) for n in range(0, top + 1)])
-    bar.set_label("optimal number of switches N")
+    if colorbar:
+        bar = fig.colorbar(image, ax=ax, ticks=range(-1, top + 1))
+        bar.ax.set_yticklabels(["not reached"] + [str(n) for n in range(0, top + 1)])
+        bar.set_label("optimal number of switches N")
     d = np.argwhere(s.dispersal)
     ax.plot(w.theta[d[:, 0]], w.omega[d[:, 1]], ",", color="black", alpha=0.6)
     if len(s.switch_points):

@@ -41,7 +41,8 @@ class Samples:
     p1, p2         the costate of the extremal (H = p . f - 1 = 0), None for a direct answer (the NLP's
                    multipliers are not a costate this suite checks)
     state_error    estimate of the error of theta and omega: the change between integrations at RTOL
-                   and CHECK_RTOL, plus at each knot its time error times the jump of omega' there
+                   and CHECK_RTOL (at least RTOL relative per arc, summed over the arcs), plus at each
+                   knot its time error times the jump of omega' there
     costate_error  the same for p1 and p2 (None without a costate)
     miss           the distance in (theta, omega) of the integrated final state from the target
     source         what was sampled, in words
@@ -146,6 +147,10 @@ def sample(x0, kappa, knots, values, t, target, source, p0=None, knot_error=0.0)
     fine, y_end = _integrate(x0, p0, kappa, knots, values, ts, RTOL)
     rough, _ = _integrate(x0, p0, kappa, knots, values, ts, CHECK_RTOL)
     spread = np.abs(fine - rough).max(axis=0) if len(ts) else np.zeros(fine.shape[1])
+    # where both integrations take the same steps their change is no estimate: at least RTOL
+    # relative on every arc, summed over the arcs
+    floor = RTOL * len(values) * np.maximum(1.0, np.abs(fine).max(axis=0, initial=0.0))
+    spread = np.maximum(spread, floor)
     jumps = kappa * np.abs(np.diff(values)).sum()        # omega' jumps by kappa |du| at a switch
     state_error = float(spread[:2].max() + knot_error * jumps)
     costate_error = None if p0 is None else float(spread[2:].max() + knot_error * jumps)

@@ -29,8 +29,7 @@ def _u_text(signs):
 
 def draw(sol):
     """The figure of a successful Solution: its answer, and its direct answer when that is another."""
-    every = sol.T / DRAWN
-    best = sol.sample(every=every)
+    best = sol.sample(every=sol.T / DRAWN) if sol.T > 0 else sol.sample(t=[0.0])     # T = 0: a start on the target
     other = None
     if sol.direct is not None and sol.direct.success and sol.best.source is Source.SEARCH:
         other = sample_direct(sol.problem, sol.direct, every=sol.direct.T / DRAWN)
@@ -42,8 +41,8 @@ def draw(sol):
     colour = {+1: plotting.U_PLUS, -1: plotting.U_MINUS}
     answer = sol.best
     # the phase portrait: each arc in its control's colour
-    for u, sel in _arcs(best):
-        c = colour.get(int(np.sign(u)), "black")
+    for key, sel in _arcs(best):
+        c = colour.get(key, "black")
         th, om = best.theta[sel], best.omega[sel]
         ax.plot(th, om, color=c, lw=2.0, zorder=3)
         mid = len(th) // 2
@@ -52,7 +51,7 @@ def draw(sol):
                         arrowprops=dict(arrowstyle="-|>", color=c, lw=0, mutation_scale=14), zorder=3)
     handles = [(tuple(ax.plot([], [], color=colour[u], lw=2.0)[0] for u in (+1, -1)),
                 f"{'optimum' if sol.optimal else 'answer'} ({answer.source}): u = {_u_text(answer.arc_signs)}, "
-                f"T = {digits(answer.T, answer.T_error)}")]
+                f"T = {digits(answer.T, answer.T_error) if answer.source is Source.SEARCH else _direct_T(sol.direct)}")]
     if answer.switch_states:
         switches = np.array(answer.switch_states)
         handles.append((ax.plot(*switches.T, "o", color="black", ms=5, zorder=5)[0], "switch points"))
@@ -100,19 +99,21 @@ def draw(sol):
         panel.tick_params(labelbottom=False)
     panels[0].set_title("against time" + ("" if other is None else " (dashed: the direct answer)"))
     p = sol.problem
-    fig.suptitle(f"{p.kind}, κ = {p.kappa:g}, on the {p.reading}: {sol.status}, "
+    fig.suptitle(f"{p.kind}, κ = {p.kappa:g}, on the {p.reading}: {str(sol.status).replace('_', ' ')}, "
                  f"{answer.n_switches} switch{'es' if answer.n_switches != 1 else ''}", y=0.99)
     return fig
 
 
 def _arcs(samples):
-    """(u, boolean mask) of each run of equal u, each run closed by the next run's first sample."""
-    change = np.flatnonzero(np.diff(samples.u)) + 1
+    """(+1, -1 or 0, boolean mask) of each run of u = +1, u = -1 (within 1e-3) or interior u, each
+    run closed by the next run's first sample."""
+    key = np.where(np.abs(np.abs(samples.u) - 1) < 1e-3, np.sign(samples.u), 0).astype(int)
+    change = np.flatnonzero(np.diff(key)) + 1
     bounds = np.r_[0, change, len(samples.t)]
     for a, b in zip(bounds[:-1], bounds[1:]):
         sel = np.zeros(len(samples.t), bool)
         sel[a:min(b + 1, len(samples.t))] = True
-        yield samples.u[a], sel
+        yield int(key[a]), sel
 
 
 def _span(best, other, target, x0):
@@ -158,7 +159,7 @@ class Export:
         if self.every is not None:
             samples = sol.sample(every=self.every)
             out["samples"] = samples.to_dict()
-            lines.append(f"sampled {len(samples.t)} times ({samples.source}): state error below "
+            lines.append(f"sampled at {len(samples.t)} time{'s' if len(samples.t) != 1 else ''} ({samples.source}): state error below "
                          f"{order(samples.state_error)} (estimate), its end {order(samples.miss)} from the target")
             if self.csv is not None:
                 lines.append(f"samples written to {samples.write_csv(self.csv)}")

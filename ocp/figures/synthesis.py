@@ -119,7 +119,7 @@ def draw_map(s):
     its size said, or that it is absent on this side of kappa_n."""
     regions = born_regions(s)
     fig = plt.figure(figsize=(7.2 + 3.4 * bool(regions), 4.8))
-    grid = fig.add_gridspec(1, 2, width_ratios=(7.2, 3.0), wspace=0.4) if regions else None
+    grid = fig.add_gridspec(1, 2, width_ratios=(7.2, 3.0), wspace=0.5) if regions else None
     ax = fig.add_subplot(grid[0, 0]) if regions else fig.add_subplot()
     handles, labels = draw_layers(fig, ax, s)
     for k, born in enumerate(regions):

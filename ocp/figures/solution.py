@@ -61,11 +61,16 @@ def draw(sol):
         d = sol.direct
         handles.append((ax.plot(other.theta, other.omega, color=DIRECT_COLOUR, ls="--", lw=1.3, zorder=4)[0],
                         f"direct ({d.method['transcription']}, N = {len(d.u)}, {d.method['solver']}): "
-                        f"u = {_u_text(d.structure.arc_signs)}, T = {_direct_T(d)}"))
+                        f"u = {_u_text(d.structure.arc_signs)}, T = {_direct_T(d)}"
+                        + ("" if sol.direct_class is None else f": {str(sol.direct_class).replace('_', ' ')}")))
+        end = sol.problem.target(d.branch)
+        if tuple(end) != tuple(sol.target):
+            ax.plot(*end, "*", mfc="white", mec=DIRECT_COLOUR, mew=1.4, ms=13, zorder=6)
     x0, target = sol.problem.x0, sol.target
     handles.append((ax.plot(*x0, "s", mfc="white", mec="black", ms=7, zorder=6)[0], f"start ({x0[0]:g}, {x0[1]:g})"))
     handles.append((ax.plot(*target, "*", color="#2ca02c", mec="black", ms=13, zorder=6)[0],
-                    f"target (θ, ω) = ({angle_text(target[0]).replace('pi', 'π')}, 0)"))
+                    f"target (θ, ω) = ({angle_text(target[0]).replace('pi', 'π').replace('-', '−')}, 0)"
+                    + ("" if other is None or sol.direct.branch == answer.branch else "; hollow: the direct answer's")))
     lo, hi = _span(best, other, target, x0)
     theta = np.linspace(lo - 0.3, hi + 0.3, 721)
     w = np.sqrt(np.maximum(2 * (1 + np.cos(theta)), 0.0))

@@ -223,7 +223,7 @@ def test_a_region_born_at_a_bifurcation_value_is_found_and_said(near_kappa_1):
     zoomed = (theta >= b.zoom[0]) & (theta <= b.zoom[1]) & (omega >= b.zoom[2]) & (omega <= b.zoom[3])
     assert 0 < b.cells <= np.count_nonzero((s.N == 2) & zoomed) and b.area > 0
     assert b.zoom[0] <= b.state[0] <= b.zoom[1] and b.zoom[2] <= b.state[1] <= b.zoom[3]
-    assert above[0].cells == 0 and "no cell with N = 2" in above[0].describe()
+    assert above[0].cells == 0 and "no cell with N = 2 at the state" in above[0].describe()
     titles = []
     with plotting.style():
         for k in (0.79, 0.81):
@@ -232,3 +232,13 @@ def test_a_region_born_at_a_bifurcation_value_is_found_and_said(near_kappa_1):
             plt.close(fig)
     assert "below κ_1" in titles[0] and f"{b.cells} cells" in titles[0]
     assert "above κ_1" in titles[1] and "no cell" in titles[1]
+    # the zoom drawn from its own finer synthesis (as `map_data` gives it): the same region, more cells
+    from ocp.figures.synthesis import ZOOM_GRID
+    from ocp.synthesis.field import Window, synthesize
+    fine = synthesize("swing-up", 0.79, "circle", Window(*b.zoom, *ZOOM_GRID), 8.0)
+    with plotting.style():
+        fig = draw_map(s, (fine,))
+        title = fig.axes[-1].get_title()
+        plt.close(fig)
+    cells = int(re.search(r"N = 2 at the state: (\d+) cells", title).group(1))
+    assert cells > b.cells and cells * np.prod(fine.window.steps) == pytest.approx(b.area, rel=0.5)

@@ -50,7 +50,7 @@ FIGURES = {
                           vibrating_pivot.stability_chart, _drawn(vibrating_pivot.draw_stability_chart)),
     **{name: Figure(f"optimal synthesis: switch counts, switching and dispersal curves ({kind}, {reading}, kappa = {kappa:g})",
                     lambda k=kind, r=reading, kp=kappa, w=window, h=horizon: synthesis.map_data(k, r, kp, w, h),
-                    _drawn(synthesis.draw_map))
+                    _drawn(lambda d: synthesis.draw_map(*d)))
        for name, kind, reading, kappa, window, horizon in synthesis.MAPS},
     **{name: Figure(f"failure map: the outcome of {method.label} from a grid of starts over the optimal synthesis "
                     f"({kind}, kappa = {kappa:g})",

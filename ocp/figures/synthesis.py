@@ -1,10 +1,11 @@
 """Maps of the optimal synthesis (`ocp.synthesis.field`): the optimal switch count N(theta, omega)
 coloured, the switching curves (switch points of optimal extremals) and the dispersal curves
-(where two optimal controls tie), the state where a bifurcation value's region of n + 1
-switches is born marked, for kappa just below and just above the value."""
+(where two optimal controls tie), for kappa just below and just above a bifurcation value; where
+the value's region of n + 1 switches is born, a zoom beside the map (a finer synthesis of the zoom
+window) shows the attaining state, the region outlined and its size, or says that it is absent."""
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import matplotlib.pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
@@ -33,72 +34,89 @@ MAPS = (
 )
 
 
+#: the grid of a zoom's own synthesis (`map_data`)
+ZOOM_GRID = (161, 161)
+
+
 def map_data(kind, reading, kappa, window, horizon, resolution=(601, 361)):
-    """The Synthesis of a map (the data of the figure)."""
-    return synthesize(kind, kappa, reading, Window(*window, *resolution), horizon)
+    """The data of a map figure: the Synthesis on the window, and one on the zoom of each region
+    born near it (`born_regions`) at ZOOM_GRID, finer than the map's."""
+    s = synthesize(kind, kappa, reading, Window(*window, *resolution), horizon)
+    return s, tuple(synthesize(kind, kappa, reading, Window(*b.zoom, *ZOOM_GRID), horizon) for b in born_regions(s))
 
 
-#: half-widths (theta, omega) of the neighbourhood of an attaining state searched for its region,
-#: and the least half-widths of a zoom
-NEAR, LEAST = (0.6, 0.6), (0.12, 0.12)
+#: a region is the attaining state's when one of its cells is within REACH cells of it; a zoom
+#: shows at least LEAST (theta, omega) or LEAST_CELLS cells about the state, whichever is larger
+REACH, LEAST, LEAST_CELLS = 3, (0.12, 0.12), 8
 ZOOM_COLOUR = "#d62728"
 
 
 @dataclass(frozen=True)
 class Born:
     """Where the region of `switches` switches is born at a bifurcation value `kappa_n` (`label`),
-    in a Synthesis: the attaining `state` (theta, omega) in the window (and its `mirror` image, the
-    same region by the symmetry (theta, omega) -> (-theta, -omega)), the `cells` of that count
-    in the connected region nearest it (within NEAR), their area (rad^2 per time unit), and the zoom
-    (theta_lo, theta_hi, omega_lo, omega_hi) that shows them."""
+    in a Synthesis: the attaining `state` (theta, omega) in the window and its `mirror` image (the
+    same region by the symmetry (theta, omega) -> (-theta, -omega); None outside the window), the
+    `region`: the connected cells (8 neighbours) of that count within REACH cells of the state and
+    of its mirror image (a boolean array of the grid), the `cells` and `area` (rad^2 per time
+    unit) of the state's part, the grid's `steps` (d theta, d omega), and the `zoom` (theta_lo,
+    theta_hi, omega_lo, omega_hi) that shows the state and its part."""
 
     label: str
     kappa_n: float
     switches: int
     state: tuple
     mirror: tuple | None
+    region: np.ndarray
     cells: int
     area: float
+    steps: tuple
     zoom: tuple
 
     def describe(self):
+        grid = f"cells {self.steps[0]:.2g} × {self.steps[1]:.2g}"
         if self.cells:
-            return (f"N = {self.switches} region near the state: {self.cells} cells of the grid, "
-                    f"about {self.area:.2g} rad²/time unit")
-        return f"no cell with N = {self.switches} near the state"
+            return f"N = {self.switches} at the state: {self.cells} cells ({grid}), about {self.area:.2g} rad²/time unit"
+        return f"no cell with N = {self.switches} at the state ({grid})"
 
 
 def born_regions(s):
-    """[Born] of the stored bifurcation values within 0.05 of s.kappa (same problem and reading)
-    whose attaining state is in the window."""
+    """[Born] of the stored bifurcation values kappa_n within 10 % of s.kappa (same problem and
+    reading) whose attaining state is in the window."""
     from ..synthesis.results import stored
 
     w, out = s.window, []
-    dt, dw = w.steps
-    theta, omega = np.meshgrid(w.theta, w.omega, indexing="ij")
     for row in stored().values():
-        if (row["kind"], row["reading"]) != (s.kind, s.reading) or abs(row["kappa"] - s.kappa) > 0.05:
+        if (row["kind"], row["reading"]) != (s.kind, s.reading) or abs(row["kappa"] - s.kappa) > 0.1 * row["kappa"]:
             continue
         th, om = row["state"]
         if s.reading == "circle":
             th = math.remainder(th, 2 * math.pi)
         inside = [(a, b) for a, b in ((th, om), (-th, -om))
                   if w.theta_lo <= a <= w.theta_hi and w.omega_lo <= b <= w.omega_hi]
-        if not inside:
-            continue
-        (th, om), n = inside[0], row["n"] + 1
-        near = _region(s.N == n, (theta - th) / NEAR[0], (omega - om) / NEAR[1])
-        cells = int(near.sum())
-        if cells:
-            t_lo, t_hi, w_lo, w_hi = theta[near].min(), theta[near].max(), omega[near].min(), omega[near].max()
-            ct, cw = 0.5 * (t_lo + t_hi), 0.5 * (w_lo + w_hi)
-            ht, hw = max(0.75 * (t_hi - t_lo) + 2 * dt, LEAST[0]), max(0.75 * (w_hi - w_lo) + 2 * dw, LEAST[1])
-        else:
-            ct, cw, (ht, hw) = th, om, LEAST
-        zoom = (max(ct - ht, w.theta_lo), min(ct + ht, w.theta_hi), max(cw - hw, w.omega_lo), min(cw + hw, w.omega_hi))
-        out.append(Born(f"κ_{row['n']} = {row['kappa']:.6f}", row["kappa"], n, (th, om),
-                        inside[1] if len(inside) > 1 else None, cells, cells * dt * dw, zoom))
+        if inside:
+            out.append(_born(s, f"κ_{row['n']} = {row['kappa']:.6f}", row["kappa"], row["n"] + 1, inside))
     return out
+
+
+def _born(s, label, kappa_n, n, inside):
+    """The Born of the states `inside` (the attaining state, its mirror image if in the window)."""
+    w = s.window
+    dt, dw = w.steps
+    theta, omega = np.meshgrid(w.theta, w.omega, indexing="ij")
+    (th, om) = inside[0]
+    own = _region(s.N == n, (theta - th) / (REACH * dt), (omega - om) / (REACH * dw))
+    region = own.copy()
+    for a, b in inside[1:]:
+        region |= _region(s.N == n, (theta - a) / (REACH * dt), (omega - b) / (REACH * dw))
+    ht, hw = max(LEAST[0], LEAST_CELLS * dt), max(LEAST[1], LEAST_CELLS * dw)
+    t_lo, t_hi, w_lo, w_hi = th - ht, th + ht, om - hw, om + hw
+    if own.any():
+        pad_t, pad_w = 0.25 * np.ptp(theta[own]) + 2 * dt, 0.25 * np.ptp(omega[own]) + 2 * dw
+        t_lo, t_hi = min(t_lo, theta[own].min() - pad_t), max(t_hi, theta[own].max() + pad_t)
+        w_lo, w_hi = min(w_lo, omega[own].min() - pad_w), max(w_hi, omega[own].max() + pad_w)
+    zoom = (max(t_lo, w.theta_lo), min(t_hi, w.theta_hi), max(w_lo, w.omega_lo), min(w_hi, w.omega_hi))
+    return Born(label, kappa_n, n, (th, om), inside[1] if len(inside) > 1 else None, region, int(own.sum()),
+                float(own.sum() * dt * dw), (dt, dw), zoom)
 
 
 def _region(mask, x, y):
@@ -112,15 +130,16 @@ def _region(mask, x, y):
     return parts == parts[nearest]
 
 
-def draw_map(s):
+def draw_map(s, zooms=()):
     """The figure of a Synthesis `s`; where the region of n + 1 switches is born at a stored
-    bifurcation value kappa_n within 0.05 of s.kappa (`born_regions`), a zoom beside the map on
-    the attaining state, its frame on the map (and at the mirror image), the region outlined and
-    its size said, or that it is absent on this side of kappa_n."""
+    bifurcation value kappa_n within 10 % of s.kappa (`born_regions`), a zoom beside the map on
+    the attaining state (drawn from `zooms`, the finer syntheses of `map_data`, where given), its
+    frame on the map (and at the mirror image), the region outlined and its size said, or that it
+    is absent on this side of kappa_n."""
     regions = born_regions(s)
     fig = plt.figure(figsize=(7.2 + 3.4 * bool(regions), 4.8))
-    grid = fig.add_gridspec(1, 2, width_ratios=(7.2, 3.0), wspace=0.5) if regions else None
-    ax = fig.add_subplot(grid[0, 0]) if regions else fig.add_subplot()
+    grid = fig.add_gridspec(max(len(regions), 1), 2, width_ratios=(7.2, 3.0), wspace=0.5)
+    ax = fig.add_subplot(grid[:, 0]) if regions else fig.add_subplot()
     handles, labels = draw_layers(fig, ax, s)
     for k, born in enumerate(regions):
         n = born.switches
@@ -130,16 +149,22 @@ def draw_map(s):
                         else [(-z[1], -z[0], -z[3], -z[2])])
         for lo_t, hi_t, lo_w, hi_w in frames:
             ax.add_patch(Rectangle((lo_t, lo_w), hi_t - lo_t, hi_w - lo_w, fill=False, ec=ZOOM_COLOUR, lw=1.4, zorder=5))
-        if born.cells:
-            ax.contour(s.window.theta, s.window.omega, (s.N == n).T.astype(float), levels=[0.5], colors=ZOOM_COLOUR,
+        zoom_ax = fig.add_subplot(grid[k, 1])
+        if born.region.any():
+            ax.contour(s.window.theta, s.window.omega, born.region.T.astype(float), levels=[0.5], colors=ZOOM_COLOUR,
                        linewidths=1.0, zorder=6)
+        fine = zooms[k] if zooms else s
+        if zooms:                                    # the zoom's own synthesis: its cells counted there
+            w = fine.window
+            inside = [x for x in (born.state, born.mirror)
+                      if x is not None and w.theta_lo <= x[0] <= w.theta_hi and w.omega_lo <= x[1] <= w.omega_hi]
+            born = replace(_born(fine, born.label, born.kappa_n, n, inside), zoom=born.zoom)
+        draw_layers(fig, zoom_ax, fine, colorbar=False)
+        if born.region.any():
+            zoom_ax.contour(fine.window.theta, fine.window.omega, born.region.T.astype(float), levels=[0.5],
+                            colors=ZOOM_COLOUR, linewidths=1.2, zorder=6)
         handles.append(ax.plot([], [], "s", mfc="none", mec=ZOOM_COLOUR, ms=9, mew=1.4)[0])
         labels.append(f"{born.label}: where {n} switches are born (+, and its mirror image), zoomed at the right")
-        zoom_ax = fig.add_subplot(grid[0, 1])
-        draw_layers(fig, zoom_ax, s, colorbar=False)
-        if born.cells:
-            zoom_ax.contour(s.window.theta, s.window.omega, (s.N == n).T.astype(float), levels=[0.5],
-                            colors=ZOOM_COLOUR, linewidths=1.2)
         zoom_ax.plot(*born.state, "+", color="black", ms=12, mew=1.6, zorder=6)
         zoom_ax.set(xlim=born.zoom[:2], ylim=born.zoom[2:], xlabel=r"$\theta$", ylabel=r"$\omega$")
         zoom_ax.xaxis.set_major_locator(MaxNLocator(4))

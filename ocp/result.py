@@ -8,15 +8,23 @@
     Solution.sample(t)        the trajectory at any times (`ocp.sampling`)
 """
 
+from __future__ import annotations
+
 import enum
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from . import sampling
 from .core.errors import InputError
 from .core.numbers import digits, order, plus_minus, printed_error
 from .core.problem import Problem, angle_text
 from .direct.structure import pattern
+
+if TYPE_CHECKING:                     # the types of the fields, for readers and checkers only
+    from .direct import DirectSolution
+    from .exact.finch import Crosscheck
+    from .indirect import Certificate, Coverage, Extremal
 
 
 class _Named(enum.IntEnum):
@@ -115,9 +123,9 @@ class Answer:
     T_error: float | None
     error_source: str
     branch: int
-    arc_signs: tuple
-    switch_times: tuple
-    switch_states: tuple
+    arc_signs: tuple[int, ...]
+    switch_times: tuple[float, ...]
+    switch_states: tuple[tuple[float, float], ...]
     switch_time_error: float
     source: Source
     method: str
@@ -183,15 +191,15 @@ class Solution:
     problem: Problem
     status: SolveStatus
     best: Answer | None
-    answer: object = None
-    ties: tuple = ()
-    runner_up: object = None
-    extremals: tuple = ()
-    coverage: object = None
+    answer: Extremal | None = None
+    ties: tuple[Extremal, ...] = ()
+    runner_up: Extremal | None = None
+    extremals: tuple[Extremal, ...] = ()
+    coverage: Coverage | None = None
     resim_miss: float | None = None
-    certificate: object = None
-    crosscheck: object = None
-    direct: object = None
+    certificate: Certificate | None = None
+    crosscheck: Crosscheck | None = None
+    direct: DirectSolution | None = None
     direct_class: DirectClass | None = None
     notes: tuple = ()
     search_time_s: float = 0.0

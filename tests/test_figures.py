@@ -179,7 +179,7 @@ def test_command_line(tmp_path, capsys):
     args = ["figures", "--only", "batista-fig1", "--only", "work-precision", "--only", "profiles", "--store", str(store)]
     assert cli.main(args + ["--out", str(tmp_path / "a")]) == 0
     progress = capsys.readouterr().err.splitlines()                # a line per figure, its time when done
-    assert [re.fullmatch(r"\[(\d)/3\] ([a-z0-9-]+) \.\.\. \d+\.\d s", line).group(2) for line in progress] == \
+    assert [re.fullmatch(r"\[(\d)/3\] ([a-z0-9-]+): \d+\.\d s", line).group(2) for line in progress] == \
         ["batista-fig1", "work-precision", "profiles"]
     assert cli.main(args + ["--out", str(tmp_path / "b")]) == 0
     files = sorted(p.name for p in (tmp_path / "a").iterdir())

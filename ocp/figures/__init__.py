@@ -77,7 +77,7 @@ def write(out_dir, only=None, formats=("png", "pdf"), store=None, progress=None)
     """Write the figures named in `only` (default: all) to out_dir; returns {name: paths or the
     reason it was skipped}. The store figures need `store`, an `ocp bench` results file: without
     one they are skipped, unless named in `only` (then InputError). `progress`: a stream that gets
-    a line per figure, its name when begun and its time when done."""
+    a line per figure as it is done, with its time (a failure leaves only its one-line error)."""
     names = list(FIGURES) if not only else list(dict.fromkeys(only))
     unknown = [n for n in names if n not in FIGURES]
     if unknown:
@@ -97,10 +97,8 @@ def write(out_dir, only=None, formats=("png", "pdf"), store=None, progress=None)
             if progress:
                 print(f"[{n}/{len(names)}] {name}: skipped (no results store)", file=progress, flush=True)
             continue
-        if progress:
-            print(f"[{n}/{len(names)}] {name} ...", end="", file=progress, flush=True)
         data = fig.data(store) if fig.from_store else fig.data()
         out[name] = fig.write(data, Path(out_dir) / name, formats)
         if progress:
-            print(f" {time.perf_counter() - begun:.1f} s", file=progress, flush=True)
+            print(f"[{n}/{len(names)}] {name}: {time.perf_counter() - begun:.1f} s", file=progress, flush=True)
     return out

@@ -21,9 +21,15 @@ class _Parser(argparse.ArgumentParser):
     """argparse, with a usage error as one line and exit status 2, and negative numbers in
     e-notation (-1e-3) read as numbers, not options."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args, epilog_from=None, **kwargs):
         super().__init__(*args, **kwargs)
+        self.epilog_from = epilog_from          # a function giving the epilog, called only for --help
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+    def format_help(self):
+        if self.epilog_from is not None:
+            self.epilog = self.epilog_from()
+        return super().format_help()
 
     def error(self, message):
         raise InputError(f"{self.prog}: {message}")
@@ -53,6 +59,11 @@ def _add_solve(sub):
                                           "damping: 2 pi K); default: the circle, any branch")
     reading.add_argument("--plane", action="store_true", help="solve on the plane, the standard target (branch 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--sample", metavar="DT", help="sample the answer every DT time units, every switch and T "
+                                                  "included (t, theta, omega, u, p1, p2): with --csv or --json")
+    p.add_argument("--csv", metavar="FILE", help="write the samples of --sample as CSV")
+    p.add_argument("--plot", metavar="FILE", help="draw the solution (phase portrait; theta, omega, u against t; "
+                                                 "the direct answer overlaid): FILE.png, .pdf or .svg")
     d = p.add_argument_group("direct transcription (classified against the search's optimum)")
     d.add_argument("--direct", action="store_true", help="also solve a direct transcription and classify it")
     d.add_argument("--no-refine", action="store_true",
@@ -111,13 +122,18 @@ def _run_solve(args):
     miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, f"a number from {low:g} to {high:g}",
                                                          low, high)
     from . import solving as solve_module
+    from .figures.solution import Export
+    export = Export.of(args.sample, args.csv, args.plot, args.json)
     with solver_output("stderr"):
         result = solve_module.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,
                                     search=not args.no_refine, trusted=args.allow_unsafe_options)
+    exported, lines = export.write(result)
     if args.json:
-        print_json(result.to_dict())
+        print_json(dict(result.to_dict(), **exported))
+        for line in lines:
+            print(line, file=sys.stderr)
     else:
-        print(result.summary())
+        print("\n".join([result.summary(), *lines]))
     return 0 if result.success else 1
 
 
@@ -144,7 +160,8 @@ def _run_verify(args):
 
 
 def _add_figures(sub):
-    p = sub.add_parser("figures", help="the papers' figures from the suite's own computations, and the benchmark charts")
+    p = sub.add_parser("figures", help="the papers' figures from the suite's own computations, and the benchmark charts",
+                       epilog_from=_figure_names, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default="figures", help="folder for the files, default ./figures")
     p.add_argument("--only", action="append", metavar="NAME", help="only this figure (repeatable; a wrong name lists them all)")
     p.add_argument("--format", default="png,pdf", help="comma separated: png, pdf, svg; default png,pdf")
@@ -154,12 +171,18 @@ def _add_figures(sub):
     p.set_defaults(run=_run_figures)
 
 
+def _figure_names():
+    from .figures import listing
+    return listing()
+
+
 def _run_figures(args):
     from . import figures
     from .core.output import solver_output
 
     with solver_output("stderr"):
-        written = figures.write(args.out, args.only, tuple(f.strip() for f in args.format.split(",")), args.store)
+        written = figures.write(args.out, args.only, tuple(f.strip() for f in args.format.split(",")), args.store,
+                                progress=sys.stderr)
     for name, paths in written.items():
         print(f"{name}: {paths}" if isinstance(paths, str) else f"{name}: {', '.join(map(str, paths))}")
     return 0
@@ -382,6 +405,15 @@ def _run_bifurcation(args):
     return 0
 
 
+def _version():
+    """The installed package's version (importlib.metadata), or "unknown" where it is not installed."""
+    from importlib import metadata
+    try:
+        return metadata.version("ocp")
+    except metadata.PackageNotFoundError:
+        return "unknown"
+
+
 def _one_line(err):
     """An error's message on one line (a value quoted in it may hold line breaks)."""
     return str(err).replace("\r", "\\r").replace("\n", "\\n")
@@ -389,6 +421,7 @@ def _one_line(err):
 
 def main(argv=None):
     parser = _Parser(prog="ocp", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"ocp {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_solve(sub)
     _add_verify(sub)

@@ -1,20 +1,47 @@
 """The result of `ocp.solve`, built once (`ocp.solving.solve`), in the spirit of scipy's
-`OptimizeResult`: a status code with a message table, `success` derived from it.
+`OptimizeResult` and python-control's `OptimalControlResult`: a status code with a message table,
+`success` derived from it, and one `Answer` whichever method produced it.
 
     Solution.status           SolveStatus: how the answer was obtained and what it proves
+    Solution.best             Answer: T, its error, branch, arcs, switches, and its source
     Solution.direct_class     DirectClass: the direct transcription's answer against the search's
+    Solution.sample(t)        the trajectory at any times (`ocp.sampling`)
 """
+
+from __future__ import annotations
 
 import enum
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
+from . import sampling
+from .core.errors import InputError
 from .core.numbers import digits, order, plus_minus, printed_error
 from .core.problem import Problem, angle_text
 from .direct.structure import pattern
 
+if TYPE_CHECKING:                     # the types of the fields, for readers and checkers only
+    from .direct import DirectSolution
+    from .exact.finch import Crosscheck
+    from .indirect import Certificate, Coverage, Extremal
 
-class SolveStatus(enum.IntEnum):
+
+class _Named(enum.IntEnum):
+    """An IntEnum that prints its name ("optimal"), not its number, and knows its message."""
+
+    def __str__(self):
+        return self.name.lower()
+
+    def __format__(self, spec):
+        return format(str(self), spec)
+
+    @property
+    def message(self):
+        return _MESSAGES[type(self)][self]
+
+
+class SolveStatus(_Named):
     OPTIMAL = 0
     BEST_FOUND = 1
     DIRECT_ONLY = 2
@@ -36,7 +63,7 @@ STATUS_MESSAGES = {
 }
 
 
-class DirectClass(enum.IntEnum):
+class DirectClass(_Named):
     """The direct answer against the search's: the first class that applies."""
 
     OPTIMUM = 0
@@ -61,17 +88,90 @@ DIRECT_MESSAGES = {
     DirectClass.NOT_CONVERGED: "the NLP solver did not converge",
     DirectClass.SOLVER_ERROR: "the NLP solver raised an error or returned no usable point",
 }
+_MESSAGES = {SolveStatus: STATUS_MESSAGES, DirectClass: DIRECT_MESSAGES}
+
+
+class Source(enum.Enum):
+    """Where an Answer comes from."""
+
+    SEARCH = "search"
+    DIRECT = "direct transcription"
+
+    def __str__(self):
+        return self.value
 
 
 @dataclass(frozen=True)
+class Answer:
+    """The answer of a solve, whichever method gave it (times nondimensional, angles in rad).
+
+    T                  the least time found
+    T_error            its error: the search's estimate (two integration accuracies, rounding
+                       included) or the direct transcription's measured bound h^2/2; None: unknown
+    error_source       how T_error was obtained, in words
+    branch             the target branch k reached (swing-up: theta = pi + 2 pi k; damping: 2 pi k)
+    arc_signs          u = +1 or -1 on each arc, first arc first (() for a start on the target)
+    switch_times       t of each switch, increasing
+    switch_states      (theta, omega) at each switch
+    switch_time_error  the switch times' error: the search's estimate, or the grid step h of a direct
+                       answer (its switch located within an interval)
+    source             Source.SEARCH (the complete search of extremals) or Source.DIRECT
+    method             the method in words (the transcription, its settings and the NLP solver)
+    """
+
+    T: float
+    T_error: float | None
+    error_source: str
+    branch: int
+    arc_signs: tuple[int, ...]
+    switch_times: tuple[float, ...]
+    switch_states: tuple[tuple[float, float], ...]
+    switch_time_error: float
+    source: Source
+    method: str
+
+    @property
+    def n_switches(self):
+        return max(len(self.arc_signs) - 1, 0)
+
+    @property
+    def signs(self):
+        """arc_signs, by the name of `ocp.indirect.Extremal` (so that code reading an extremal's
+        structure, such as `ocp.exact.finch.crosscheck`, reads an Answer too)."""
+        return self.arc_signs
+
+    @classmethod
+    def of_extremal(cls, e):
+        """The Answer of an extremal of the search (`ocp.indirect.Extremal`)."""
+        return cls(T=float(e.T), T_error=float(e.T_error),
+                   error_source="the change of T between two integration accuracies of the search",
+                   branch=e.branch, arc_signs=tuple(e.signs), switch_times=tuple(e.switch_times),
+                   switch_states=tuple(tuple(x) for x in e.switch_states), switch_time_error=float(e.switch_time_error),
+                   source=Source.SEARCH, method="complete search of extremals")
+
+    @classmethod
+    def of_direct(cls, d):
+        """The Answer of a verified direct solution (`ocp.direct.DirectSolution`)."""
+        s = d.structure
+        return cls(T=d.T, T_error=d.T_bound,
+                   error_source="the direct transcription's measured bound h^2/2 (none where not measured)",
+                   branch=d.branch, arc_signs=tuple(s.arc_signs), switch_times=tuple(s.switch_times),
+                   switch_states=tuple(tuple(x) for x in s.switch_states), switch_time_error=s.h,
+                   source=Source.DIRECT, method=direct_method(d.method))
+
+
+@dataclass(frozen=True, kw_only=True)
 class Solution:
     """A minimum-time solution and how it was obtained.
 
     problem        the Problem solved (its `reading`: the circle or the plane)
-    status         SolveStatus; `success` is status >= 0, `message` its text, `optimal` True,
-                   False (never: a worse answer is not returned) or None (unknown)
-    answer         the optimal extremal (`ocp.indirect.Extremal`: signs, durations, T, switch times
-                   and states, branch, p(0), error estimates), None without a search
+    status         SolveStatus (`str()` its name, `.message` its text); `success` is status >= 0,
+                   `message` its text, `optimal` True, False (never: a worse answer is not returned)
+                   or None (unknown)
+    best           the Answer (`T`, `T_error`, `branch`, `arc_signs`, `switch_times`, `switch_states`,
+                   `switch_time_error` read it), None exactly when the solve failed (nothing claimed)
+    answer         the optimal extremal of the search (`ocp.indirect.Extremal`: signs, durations, T,
+                   switch times and states, branch, p(0), error estimates), None without a search
     ties           other extremals with the same T within their accuracy (mirror images, other
                    branches): every optimal control
     runner_up      the fastest extremal slower than the optimum (None if none before the horizon)
@@ -85,26 +185,31 @@ class Solution:
     direct         the direct transcription's answer (`ocp.direct.DirectSolution`), if one was asked for
     direct_class   DirectClass of it against the search, None without both
     notes          what the search said on its way (horizons tried)
-    search_time_s, certificate_time_s, direct_time_s, total_time_s
+    search_time_s, certificate_time_s, direct_time_s, total_time_s   wall-clock seconds of each part
     """
 
     problem: Problem
     status: SolveStatus
-    answer: object
-    ties: tuple
-    runner_up: object
-    extremals: tuple
-    coverage: object
-    resim_miss: float | None
-    certificate: object
-    crosscheck: object
-    direct: object
-    direct_class: DirectClass | None
-    notes: tuple
-    search_time_s: float
-    certificate_time_s: float
-    direct_time_s: float
-    total_time_s: float
+    best: Answer | None
+    answer: Extremal | None = None
+    ties: tuple[Extremal, ...] = ()
+    runner_up: Extremal | None = None
+    extremals: tuple[Extremal, ...] = ()
+    coverage: Coverage | None = None
+    resim_miss: float | None = None
+    certificate: Certificate | None = None
+    crosscheck: Crosscheck | None = None
+    direct: DirectSolution | None = None
+    direct_class: DirectClass | None = None
+    notes: tuple = ()
+    search_time_s: float = 0.0
+    certificate_time_s: float = 0.0
+    direct_time_s: float = 0.0
+    total_time_s: float = 0.0
+
+    def __post_init__(self):
+        if (self.best is not None) != self.success:
+            raise ValueError(f"a Solution of status {self.status} {'needs' if self.success else 'claims no'} Answer")
 
     @property
     def success(self):
@@ -112,7 +217,7 @@ class Solution:
 
     @property
     def message(self):
-        return STATUS_MESSAGES[self.status]
+        return self.status.message
 
     @property
     def optimal(self):
@@ -122,22 +227,20 @@ class Solution:
     def from_search(self):
         return self.answer is not None
 
-    # the answer's numbers: from the search where there is one, else from the direct solve
+    # the Answer's numbers (NaN, None or () where the solve failed)
     @property
     def T(self):
-        return self.answer.T if self.answer else (self.direct.T if self.direct else math.nan)
+        return self.best.T if self.best else math.nan
 
     @property
     def T_error(self):
-        """Error estimate of T (the search's two tolerances), the direct bound (None where none is
-        stated), or None for a failure."""
-        if not self.success:
-            return None
-        return self.answer.T_error if self.answer else self.direct.T_bound
+        """Error of T: the search's estimate, the direct bound (None where none is stated), or None
+        for a failure."""
+        return self.best.T_error if self.best else None
 
     @property
     def branch(self):
-        return self.answer.branch if self.answer else (self.direct.branch if self.direct else None)
+        return self.best.branch if self.best else None
 
     @property
     def target(self):
@@ -145,7 +248,7 @@ class Solution:
 
     @property
     def arc_signs(self):
-        return tuple(self.answer.signs) if self.answer else (self.direct.structure.arc_signs if self.direct else ())
+        return self.best.arc_signs if self.best else ()
 
     @property
     def n_switches(self):
@@ -153,20 +256,27 @@ class Solution:
 
     @property
     def switch_times(self):
-        return tuple(self.answer.switch_times) if self.answer else (
-            tuple(self.direct.structure.switch_times) if self.direct else ())
+        return self.best.switch_times if self.best else ()
 
     @property
     def switch_time_error(self):
         """The search's estimate, or h for a direct answer (its switch located within an interval)."""
-        if not self.success:
-            return None
-        return self.answer.switch_time_error if self.answer else self.direct.structure.h
+        return self.best.switch_time_error if self.best else None
 
     @property
     def switch_states(self):
-        return tuple(self.answer.switch_states) if self.answer else (
-            tuple(self.direct.structure.switch_states) if self.direct else ())
+        return self.best.switch_states if self.best else ()
+
+    def sample(self, t=None, every=None):
+        """The answer's trajectory (`ocp.sampling.Samples`: t, theta, omega, u, p1, p2, their error
+        estimates) at the times `t` in [0, T], or every `every` time units with every switch and T
+        (give one). From the search: the certified extremal integrated arc by arc from x0, its
+        costate from p(0); from a direct answer: its own piecewise-constant control, no costate."""
+        if self.best is None:
+            raise InputError(f"no answer to sample: {self.message}")
+        if self.best.source is Source.SEARCH:
+            return sample_extremal(self.problem, self.answer, t, every)
+        return sample_direct(self.problem, self.direct, t, every)
 
     @property
     def certified(self):
@@ -177,7 +287,7 @@ class Solution:
         """What this result is, in one sentence."""
         if not self.success:
             return f"no solution: {self.message}"
-        if self.answer is None:
+        if self.best.source is Source.DIRECT:
             return self.message
         if self.answer.solved == "exact":
             return "the start is on the target: T = 0, no control needed"
@@ -203,9 +313,8 @@ class Solution:
         }
         if self.success:
             out.update({
-                "T": self.T, "T_error": self.T_error,
-                "error_source": ("the change of T between two integration accuracies of the search" if self.answer
-                                 else "the direct transcription's measured bound h^2/2 (none where not measured)"),
+                "T": self.T, "T_error": self.T_error, "error_source": self.best.error_source,
+                "source": str(self.best.source), "method": self.best.method,
                 "branch": self.branch, "target": list(self.target), "n_switches": self.n_switches,
                 "arc_signs": list(self.arc_signs), "switch_times": list(self.switch_times),
                 "switch_time_error": self.switch_time_error,
@@ -231,7 +340,7 @@ class Solution:
             "switch_states": [list(v) for v in x.switch_states], "formula_error": x.analytic.error}
         out["direct"] = None if self.direct is None else dict(
             self.direct.to_dict(), classified=None if self.direct_class is None else self.direct_class.name.lower(),
-            classification=None if self.direct_class is None else DIRECT_MESSAGES[self.direct_class],
+            classification=None if self.direct_class is None else self._classification(),
             T_minus_optimum=None if self.answer is None or not self.success or not self.direct.success
             else self.direct.T - self.answer.T)
         out["notes"] = list(self.notes)
@@ -253,17 +362,15 @@ class Solution:
                 lines.append(self._direct_line())
             return "\n".join(lines)
         lines.append(f"reached ({angle_text(self.target[0])}, 0), branch k = {self.branch}")
-        if self.answer is not None:
+        if self.best.source is Source.SEARCH:
             lines.append(f"T = {digits(self.T, self.T_error)}   (error estimate {order(printed_error(self.T, self.T_error))}, rounding included; the control "
                          f"re-simulated independently misses the target by {order(self.resim_miss)})")
         else:
-            bound = self.direct.T_bound
-            lines.append(f"T = {plus_minus(self.T, bound) if bound else digits(self.T, None)}   (direct transcription, "
-                         f"{'error below h^2/2 as measured' if bound else 'no error bound measured for this method'}; "
-                         f"optimal: unknown)")
+            measured = ", error below h^2/2 as measured" if self.T_error else ""
+            lines.append(f"T = {self._direct_T()}   (direct transcription{measured}; optimal: unknown)")
         lines.append(f"{self.n_switches} switch{'es' if self.n_switches != 1 else ''}, u = {pattern(self.arc_signs)}")
         e = self.switch_time_error
-        shown = digits if self.answer is not None else plus_minus
+        shown = digits if self.best.source is Source.SEARCH else plus_minus
         for i, (tau, (th, om)) in enumerate(zip(self.switch_times, self.switch_states), 1):
             # a state at a switch moves at most |omega| + kappa + 1 per unit of switch-time error
             es = e * (abs(om) + p.kappa + 1)
@@ -292,16 +399,55 @@ class Solution:
 
     def _direct_line(self):
         d = self.direct
-        head = f"direct: {d.method['transcription']} {describe_method(d.method)}, {d.method['solver']}: {d.message}"
+        head = f"direct: {direct_method(d.method)}: {d.message}"
         n = d.structure.n_switches
         if d.success:
-            T = plus_minus(d.T, d.T_bound) if d.T_bound else digits(d.T, None) + ", no error bound measured"
-            head += (f"; T = {T}, {n} switch{'es' if n != 1 else ''}, re-simulated miss {order(d.resim_miss)}")
+            head += (f"; T = {self._direct_T()}, {n} switch{'es' if n != 1 else ''}, re-simulated miss {order(d.resim_miss)}")
         elif d.converged:
             head += f" by {order(d.resim_miss)} (more than {order(d.miss_tol)}): not a transfer, no time is claimed"
         if self.direct_class is not None:
-            head += f"\n  classified: {self.direct_class.name.lower().replace('_', ' ')} ({DIRECT_MESSAGES[self.direct_class]})"
+            head += f"\n  classified: {str(self.direct_class).replace('_', ' ')} ({self._classification()})"
         return head
+
+    def _direct_T(self):
+        """The direct answer's T with its one accuracy statement: its bound, or that none is measured."""
+        d = self.direct
+        if d.T_bound:
+            return plus_minus(d.T, d.T_bound)
+        return f"{d.T:.6g} (accuracy unknown: no error bound is measured for this method)"
+
+    def _classification(self):
+        """The direct class in words; an optimum without a stated bound says so, with its distance."""
+        if self.direct_class == DirectClass.OPTIMUM and self.direct.T_bound is None:
+            return (f"the structure and branch of an optimal extremal; |T - T*| = "
+                    f"{order(abs(self.direct.T - self.answer.T))}, no bound stated to compare it with")
+        return DIRECT_MESSAGES[self.direct_class]
+
+
+def sample_extremal(problem, extremal, t=None, every=None):
+    """Samples of an extremal of the search (its arcs between its switch times, its costate)."""
+    knots = (0.0, *extremal.switch_times, extremal.T)
+    return sampling.sample(problem.x0, problem.kappa, knots, extremal.signs, _times(knots, t, every),
+                           problem.target(extremal.branch), "the extremal of the complete search",
+                           p0=tuple(extremal.p0), knot_error=extremal.switch_time_error)
+
+
+def sample_direct(problem, direct, t=None, every=None):
+    """Samples of a direct answer: its piecewise-constant control on its own grid, re-integrated."""
+    knots, values = sampling.runs(direct.t, direct.u)
+    return sampling.sample(problem.x0, problem.kappa, knots, values, _times(knots, t, every),
+                           problem.target(direct.branch), f"the direct answer, {direct_method(direct.method)}")
+
+
+def _times(knots, t, every):
+    if (t is None) == (every is None):
+        raise InputError("sample: give the times t or a spacing every (one of them)")
+    return sampling.times(knots, every) if every is not None else t
+
+
+def direct_method(method):
+    """A direct method record in words: the transcription, its settings, the NLP solver."""
+    return f"{method['transcription']} {describe_method(method)}, {method['solver']}"
 
 
 def describe_method(method):

@@ -16,15 +16,13 @@ With `search=False` the direct answer alone is returned: `optimal` is then unkno
 
 import math
 import time
-from types import SimpleNamespace
-
 import numpy as np
 
 from .core.errors import InputError
 from .core.problem import Problem
 from .indirect import certify, search as search_extremals
 from .indirect.searching import HORIZON_BAND, MARGIN
-from .result import DirectClass, SolveStatus, Solution
+from .result import Answer, DirectClass, SolveStatus, Solution
 
 #: the answer's re-simulated miss must be below this (a refined extremal lands to ~1e-12)
 VERIFY_TOL = 1e-8
@@ -97,12 +95,11 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     direct_time = time.perf_counter() - start
     if not search:
         status = SolveStatus.DIRECT_ONLY if direct.success else SolveStatus.DIRECT_FAILED
-        structure = direct.structure
-        read = SimpleNamespace(branch=direct.branch, signs=structure.arc_signs, switch_times=structure.switch_times,
-                               switch_states=structure.switch_states, T=direct.T)
-        crosscheck = _crosscheck(problem, read) if direct.success else None
-        return Solution(problem, status, None, (), None, (), None, direct.resim_miss if direct.success else None,
-                        None, crosscheck, direct, None, (), 0.0, 0.0, direct_time, time.perf_counter() - start)
+        best = Answer.of_direct(direct) if direct.success else None
+        return Solution(problem=problem, status=status, best=best, direct=direct,
+                        resim_miss=direct.resim_miss if best else None,
+                        crosscheck=_crosscheck(problem, best) if best else None,
+                        direct_time_s=direct_time, total_time_s=time.perf_counter() - start)
     horizon = None
     if direct is not None and direct.success and math.isfinite(direct.T):
         horizon = direct.T * (1 + margin) / (1 - HORIZON_BAND)
@@ -129,6 +126,9 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     certificate_time = time.perf_counter() - begun
     direct_class = None if direct is None or answer is None else classify(direct, answer, ties, found.arrivals,
                                                                           found.coverage.horizon)
-    return Solution(problem, status, answer, ties, runner_up, found.arrivals, found.coverage, miss, certificate,
-                    crosscheck, direct, direct_class, found.notes, search_time, certificate_time, direct_time,
-                    time.perf_counter() - start)
+    return Solution(problem=problem, status=status, best=Answer.of_extremal(answer) if status >= 0 else None,
+                    answer=answer, ties=ties, runner_up=runner_up, extremals=found.arrivals, coverage=found.coverage,
+                    resim_miss=miss, certificate=certificate, crosscheck=crosscheck, direct=direct,
+                    direct_class=direct_class, notes=found.notes, search_time_s=search_time,
+                    certificate_time_s=certificate_time, direct_time_s=direct_time,
+                    total_time_s=time.perf_counter() - start)

@@ -108,3 +108,24 @@ def test_a_rejected_nlp_build_prints_one_line_only(args, says, capfd):
     assert main(["solve", "swing-up", "--kappa", "1", "--direct", "--N", "20", *args]) == 2
     out, err = capfd.readouterr()
     assert out == "" and err.count("\n") == 1 and err.startswith("error:") and says in err
+
+
+def test_version_and_the_help_that_says_where_things_are(capsys):
+    """`ocp --version` exits 0 with the installed version; `ocp figures --help` lists every figure;
+    `ocp bench --help` names the folder of the suites."""
+    from importlib import metadata
+    from pathlib import Path
+
+    import ocp.bench
+    from ocp.figures import FIGURES
+
+    outputs = []
+    for argv in (["--version"], ["figures", "--help"], ["bench", "--help"]):
+        with pytest.raises(SystemExit) as done:
+            main(argv)
+        assert done.value.code == 0
+        outputs.append(capsys.readouterr().out)
+    assert outputs[0].strip() == f"ocp {metadata.version('ocp')}"
+    assert all(f"  {name}  " in outputs[1] for name in FIGURES)
+    suites = Path(ocp.bench.__file__).parent / "suites"
+    assert "ocp/bench/suites/" in " ".join(outputs[2].split()) and any(suites.glob("*.toml"))

@@ -2,13 +2,15 @@
 
 import json
 import math
+import re
 from fractions import Fraction
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
 from ocp import cli, figures
-from ocp.core import model
+from ocp.core import model, plotting
 from ocp.papers import references, verify
 from ocp.bench.store import Store
 from ocp.figures import FIGURES, batista, finch, ticks, vibrating_pivot, write
@@ -176,9 +178,12 @@ def test_command_line(tmp_path, capsys):
     store = _store(tmp_path / "tiny.sqlite")
     args = ["figures", "--only", "batista-fig1", "--only", "work-precision", "--only", "profiles", "--store", str(store)]
     assert cli.main(args + ["--out", str(tmp_path / "a")]) == 0
+    progress = capsys.readouterr().err.splitlines()                # a line per figure, its time when done
+    assert [re.fullmatch(r"\[(\d)/3\] ([a-z0-9-]+): \d+\.\d s", line).group(2) for line in progress] == \
+        ["batista-fig1", "work-precision", "profiles"]
     assert cli.main(args + ["--out", str(tmp_path / "b")]) == 0
     files = sorted(p.name for p in (tmp_path / "a").iterdir())
-    assert "batista-fig1.png" in files and "profiles_time.pdf" in files and "profiles_accuracy.png" in files
+    assert "batista-fig1.png" in files and "profile_time.pdf" in files and "profile_accuracy.png" in files
     assert sum(name.startswith("work_precision_") for name in files) == 4          # 2 cases, png + pdf
     for name in files:
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
@@ -196,3 +201,44 @@ def test_store_figures_skipped_without_a_store(tmp_path, monkeypatch):
     out = write(tmp_path, None, ("png",), store=tmp_path / "none.sqlite")
     assert [p.name for p in out["batista-fig1"]] == ["batista-fig1.png"]
     assert out["work-precision"].startswith("skipped: no results store") and out["profiles"].startswith("skipped")
+
+
+@pytest.fixture(scope="module")
+def near_kappa_1():
+    """Maps of a small window around where kappa_1 = 0.800028 (swing-up, circle) gives birth to two
+    switches (its stored attaining state (0.142, 0.396) and the mirror image), just below and above."""
+    from ocp.synthesis.field import Window, synthesize
+    window = Window(-0.6, 0.6, -0.8, 0.8, 241, 161)
+    return {k: synthesize("swing-up", k, "circle", window, 8.0) for k in (0.79, 0.81)}
+
+
+def test_a_region_born_at_a_bifurcation_value_is_found_and_said(near_kappa_1):
+    """Below kappa_1 the two-switch region near the state is found (its cells inside the zoom, their
+    number the map's own count near the state); above it there is none, and the zoom says so."""
+    from ocp.figures.synthesis import born_regions, draw_map
+    below, above = (born_regions(near_kappa_1[k]) for k in (0.79, 0.81))
+    assert len(below) == len(above) == 1 and below[0].switches == above[0].switches == 2
+    b, s = below[0], near_kappa_1[0.79]
+    theta, omega = np.meshgrid(s.window.theta, s.window.omega, indexing="ij")
+    zoomed = (theta >= b.zoom[0]) & (theta <= b.zoom[1]) & (omega >= b.zoom[2]) & (omega <= b.zoom[3])
+    assert 0 < b.cells <= np.count_nonzero((s.N == 2) & zoomed) and b.area > 0
+    assert b.zoom[0] <= b.state[0] <= b.zoom[1] and b.zoom[2] <= b.state[1] <= b.zoom[3]
+    assert above[0].cells == 0 and "no cell with N = 2 at the state" in above[0].describe()
+    titles = []
+    with plotting.style():
+        for k in (0.79, 0.81):
+            fig = draw_map(near_kappa_1[k])
+            titles.append(fig.axes[-1].get_title())
+            plt.close(fig)
+    assert "below κ_1" in titles[0] and f"{b.cells} cells" in titles[0]
+    assert "above κ_1" in titles[1] and "no cell" in titles[1]
+    # the zoom drawn from its own finer synthesis (as `map_data` gives it): the same region, more cells
+    from ocp.figures.synthesis import ZOOM_GRID
+    from ocp.synthesis.field import Window, synthesize
+    fine = synthesize("swing-up", 0.79, "circle", Window(*b.zoom, *ZOOM_GRID), 8.0)
+    with plotting.style():
+        fig = draw_map(s, (fine,))
+        title = fig.axes[-1].get_title()
+        plt.close(fig)
+    cells = int(re.search(r"N = 2 at the state: (\d+) cells", title).group(1))
+    assert cells > b.cells and cells * np.prod(fine.window.steps) == pytest.approx(b.area, rel=0.5)

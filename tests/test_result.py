@@ -32,8 +32,8 @@ def failures(with_search):
         "direct misses": ocp.solve(p, COARSE, search=False),
         "direct not converged": ocp.solve(p, ocp.MultipleShooting(N=20), options={"ipopt.max_iter": 1}, search=False),
         "direct solver error": ocp.solve(p, ocp.MultipleShooting(N=20), solver="blocksqp", search=False),
-        "not verified": replace(with_search, status=SolveStatus.NOT_VERIFIED, resim_miss=1e-3),
-        "no extremal": replace(with_search, status=SolveStatus.NO_EXTREMAL, answer=None, ties=(), runner_up=None,
+        "not verified": replace(with_search, status=SolveStatus.NOT_VERIFIED, best=None, resim_miss=1e-3),
+        "no extremal": replace(with_search, status=SolveStatus.NO_EXTREMAL, best=None, answer=None, ties=(), runner_up=None,
                                extremals=(), certificate=None, crosscheck=None, resim_miss=None, direct_class=None),
     }
 

@@ -22,7 +22,7 @@ CONFIRM_RUNS = 5_000
 def add_commands(sub):
     p = sub.add_parser("bench", help="run a benchmark suite (cases x methods) into a results store")
     p.add_argument("suite", nargs="?", default="quick",
-                   help="a suite name in benchmarks/ (quick, full) or a TOML file; default quick")
+                   help="a suite name in ocp/bench/suites/ (quick, full) or a TOML file; default quick")
     p.add_argument("--store", help="the SQLite results file (default ocp-bench-SUITE.sqlite); "
                                    "pairs already in it are not run again")
     p.add_argument("--jobs", default="1", help="local worker processes, default 1")

@@ -7,6 +7,7 @@ vibrating-pivot time histories and stability chart (Weinstein; Tam). The suite's
 drawn from a benchmark results store (`ocp bench`) by `ocp.bench.report`.
 """
 
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -49,7 +50,7 @@ FIGURES = {
                           vibrating_pivot.stability_chart, _drawn(vibrating_pivot.draw_stability_chart)),
     **{name: Figure(f"optimal synthesis: switch counts, switching and dispersal curves ({kind}, {reading}, kappa = {kappa:g})",
                     lambda k=kind, r=reading, kp=kappa, w=window, h=horizon: synthesis.map_data(k, r, kp, w, h),
-                    _drawn(synthesis.draw_map))
+                    _drawn(lambda d: synthesis.draw_map(*d)))
        for name, kind, reading, kappa, window, horizon in synthesis.MAPS},
     **{name: Figure(f"failure map: the outcome of {method.label} from a grid of starts over the optimal synthesis "
                     f"({kind}, kappa = {kappa:g})",
@@ -58,15 +59,25 @@ FIGURES = {
        for name, kind, kappa, method, window, grid, horizon in failure_map.MAPS},
     "work-precision": Figure("work-precision charts, one a benchmark case (from a results store)",
                              suite.records, suite.write_work_precision, from_store=True),
-    "profiles": Figure("performance profiles across the benchmark cases (from a results store)",
-                       suite.profiles, suite.write_profiles, from_store=True),
+    "profiles": Figure("performance profiles across the benchmark cases (from a results store): profile_time "
+                       "and profile_accuracy, the names of `ocp report`",
+                       suite.profiles, lambda data, stem, formats: suite.write_profiles(data, stem.with_name("profile"),
+                                                                                        formats),
+                       from_store=True),
 }
 
 
-def write(out_dir, only=None, formats=("png", "pdf"), store=None):
+def listing():
+    """The figures' names and what each shows, a line each (`ocp figures --help`)."""
+    width = max(map(len, FIGURES))
+    return "figures (--only NAME):\n" + "\n".join(f"  {name:<{width}}  {fig.about}" for name, fig in FIGURES.items())
+
+
+def write(out_dir, only=None, formats=("png", "pdf"), store=None, progress=None):
     """Write the figures named in `only` (default: all) to out_dir; returns {name: paths or the
     reason it was skipped}. The store figures need `store`, an `ocp bench` results file: without
-    one they are skipped, unless named in `only` (then InputError)."""
+    one they are skipped, unless named in `only` (then InputError). `progress`: a stream that gets
+    a line per figure as it is done, with its time (a failure leaves only its one-line error)."""
     names = list(FIGURES) if not only else list(dict.fromkeys(only))
     unknown = [n for n in names if n not in FIGURES]
     if unknown:
@@ -75,14 +86,19 @@ def write(out_dir, only=None, formats=("png", "pdf"), store=None):
         if fmt not in plotting.FORMATS:
             raise InputError(f"unknown figure format {fmt!r}; accepted: {', '.join(plotting.FORMATS)}")
     out = {}
-    for name in names:
+    for n, name in enumerate(names, 1):
         fig = FIGURES[name]
+        begun = time.perf_counter()
         if fig.from_store and (store is None or not Path(store).is_file()):
             if only:
                 raise InputError(f"figure {name!r} needs a results store: --store PATH (written by `ocp bench`)"
                                  + (f"; there is none at {store}" if store else ""))
             out[name] = f"skipped: no results store{f' at {store}' if store else ''} (run `ocp bench`, then --store PATH)"
+            if progress:
+                print(f"[{n}/{len(names)}] {name}: skipped (no results store)", file=progress, flush=True)
             continue
         data = fig.data(store) if fig.from_store else fig.data()
         out[name] = fig.write(data, Path(out_dir) / name, formats)
+        if progress:
+            print(f"[{n}/{len(names)}] {name}: {time.perf_counter() - begun:.1f} s", file=progress, flush=True)
     return out

@@ -56,7 +56,9 @@ class Number:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise _refused(name, value, f"not a number; it takes {self.accepted()}")
         number = float(value)
-        if not math.isfinite(number) or number < self.low or (self.above and number == self.low) or number > self.high:
+        if not math.isfinite(number):
+            raise _refused(name, value, f"not finite; it takes {self.accepted()}")
+        if number < self.low or (self.above and number == self.low) or number > self.high:
             raise _refused(name, value, f"out of range; it takes {self.accepted()}")
         return number
 
@@ -344,7 +346,9 @@ SOLVERS = {
         fair={"bonmin.tol": TOL},
         why="no integer variables: Bonmin's NLP solver (IPOPT with MUMPS) at the common tolerance"),
     "alpaqa": Solver(),
-    "qrsqp": Solver(options={"max_iter": COUNT, "tol_pr": POSITIVE, "tol_du": POSITIVE, **PRINTING},
+    "qrsqp": Solver(options={"max_iter": COUNT, "min_iter": COUNT, "max_iter_ls": COUNT, "tol_pr": POSITIVE,
+                             "tol_du": POSITIVE, "min_step_size": POSITIVE, "print_header": Flag(),
+                             "print_iteration": Flag(), "hessian_approximation": Choice(("exact", "limited-memory"))},
                     uses={"conic": "qrqp"}),
     "scpgen": Solver(),
     # shipped as plugins that need their vendor's library, absent from the wheel: build errors

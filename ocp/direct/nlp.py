@@ -24,7 +24,6 @@ from ..core.output import solver_output
 from ..core.problem import CONTROL_BOUNDS, terminal_bounds, terminal_constraints
 from .base import Transcription
 from . import solvers
-from .solvers import available_solvers  # noqa: F401  (read here by ocp.bench.environment)
 
 
 @dataclass

@@ -57,6 +57,7 @@ HOSTILE_METHODS = {
     "nested ipopt table": 'options = { ipopt = { ipopt = { hsllib = "./evil.so" } } }',
     "qpsol_options naming a file": 'solver = "sqpmethod"\noptions = { sqpmethod = { qpsol_options = { dump_in = true } } }',
     "jit": 'options = { ipopt = { jit = true, compiler = "shell" } }',
+    "integrator evil": 'integrator = "evil"',
 }
 #: command lines that name a plugin or a file
 HOSTILE_ARGS = {

@@ -67,6 +67,8 @@ HOSTILE_ARGS = {
     "pardisolib": ["--option", "ipopt.linear_solver=pardiso", "--option", "ipopt.pardisolib=./evil.so"],
     "qpsol evil": ["--solver", "sqpmethod", "--option", "qpsol=evil"],
     "linsol evil": ["--solver", "blocksqp", "--option", "linsol=evil"],
+    "output_file": ["--option", "ipopt.output_file=x.txt"],
+    "integrator evil": ["--integrator", "evil"],
 }
 
 
@@ -137,12 +139,20 @@ def test_a_hostile_suite_file_is_one_line_and_loads_nothing(hostile, name, capsy
 
 
 @pytest.mark.parametrize("name", list(HOSTILE_ARGS))
-def test_a_hostile_command_line_is_one_line_and_loads_nothing(hostile, name):
-    """`python -m ocp.cli solve ... --direct` in the hostile working folder: exit 2, one line."""
+def test_a_hostile_command_line_is_one_line_and_loads_nothing(hostile, name, capsys):
+    _, _, marker = hostile
+    argv = ["solve", "swing-up", "--kappa", "1", "--direct", "--N", "10", "--no-refine", *HOSTILE_ARGS[name]]
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("error:"), err
+    assert not marker.exists()
+
+
+def test_python_m_ocp_cli_solve_with_an_evil_solver_loads_nothing(hostile):
+    """The command line as a user runs it, in the hostile working folder: exit 2, one line."""
     _, _, marker = hostile
     proc = subprocess.run([sys.executable, "-m", "ocp.cli", "solve", "swing-up", "--kappa", "1", "--direct",
-                           "--N", "10", "--no-refine", *HOSTILE_ARGS[name]], capture_output=True, text=True,
-                          timeout=120)
+                           "--solver", "evil"], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and proc.stderr.startswith("error:"), proc.stderr
     assert not marker.exists()
 
@@ -176,6 +186,15 @@ def test_plugin_names_come_from_casadis_own_folder():
                 assert os.path.isfile(os.path.join(solvers.folder(), f"libcasadi_{kind}_{name}.so"))
     assert not solvers.available("linsol", "ma27") and not solvers.available("nlpsol", "evil")
     assert {"ipopt", "fatrop", "sqpmethod", "blocksqp"} <= set(solvers.available_solvers())
+
+
+def test_the_plugins_a_solver_loads_by_default_are_loadable_but_one():
+    """The defaults of `uses` all load from CasADi's folder, except blockSQP's MA27 (libhsl is not
+    shipped): the one default that `solvers.loading` alone keeps from the working folder
+    (test_a_default_that_names_an_unloadable_plugin_never_searches_the_working_folder)."""
+    missing = {(name, kind, plugin) for name, entry in solvers.SOLVERS.items() if solvers.available("nlpsol", name)
+               for kind, plugin in entry.uses.items() if not solvers.available(kind, plugin)}
+    assert missing == {("blocksqp", "linsol", "ma27")}
 
 
 @pytest.mark.parametrize("solver", solvers.available_solvers())

@@ -208,3 +208,17 @@ def test_every_allowed_option_is_one_its_solver_accepts(solver):
     if solver == "scpgen":                       # its build fails on this NLP whatever the options
         pytest.skip("scpgen cannot build this NLP (CasADi: its own error), whatever the options")
     build(ocp.MultipleShooting(N=5), solver, options.checked(sample, solver=solver))
+
+
+def test_a_solver_the_wheel_ships_is_one_entry(monkeypatch):
+    """Uno is shipped (libcasadi_nlpsol_uno.so) but not declared: refused; one entry of SOLVERS
+    makes it a solver of ocp (available, its options checked, its NLP built)."""
+    from ocp.direct.nlp import build
+
+    with pytest.raises(InputError, match="not an NLP solver ocp knows"):
+        options.checked({}, solver="uno")
+    monkeypatch.setitem(solvers.SOLVERS, "uno", solvers.Solver())
+    assert "uno" in solvers.available_solvers()
+    with pytest.raises(InputError, match="expand"):
+        options.checked({"expand": 1}, solver="uno")
+    assert build(ocp.MultipleShooting(N=5), "uno", options.checked({"expand": True}, solver="uno")).n_w > 0

@@ -7,18 +7,19 @@ its fair configuration for the bench and why, the QP and linear solver plugins i
 library, a program or a callback (`ocp.direct.options` refuses everything else). A new solver the
 CasADi wheel ships is one entry of SOLVERS; a QP solver one entry of CONICS.
 
-How CasADi finds a plugin (casadi/core/casadi_os.cpp, `get_search_paths`, CasADi 3.6 to 3.8, and
-traced here with strace): for `libcasadi_<kind>_<name>.so` it tries dlopen in each of
-CASADI_PLUGIN_SEARCH_PATH, the casadipath of GlobalOptions (the Python package sets it to its own
-folder), CASADIPATH, the bare name (dlopen's own search: RPATH $ORIGIN of libcasadi, LD_LIBRARY_PATH,
-the system folders), and last "." - the working folder - taking the first that loads. A library's
-constructor runs when it is opened, so a name tried there runs the code of
-./libcasadi_nlpsol_<name>.so even when CasADi then refuses it; so does a plugin that is shipped but
-cannot load from CasADi's folder (its dependency missing: HSL's MA27 for blockSQP's default linear
-solver, the KNITRO, SNOPT, WORHP and MadNLP libraries): the search falls through to the working
-folder. `casadi.has_nlpsol(name)` searches the same way. IPOPT's own loading of HSL and Pardiso
-(`linear_solver` ma27..., pardiso) uses dlopen's search (no working folder) unless `hsllib` or
-`pardisolib` name a path.
+How CasADi finds a plugin (casadi/core/casadi_os.cpp, `get_search_paths` and
+`open_shared_library`; traced with strace on the wheel installed here, 3.8.2): for
+`libcasadi_<kind>_<name>.so` it tries dlopen in each of CASADI_PLUGIN_SEARCH_PATH, the casadipath
+of GlobalOptions (the Python package sets it to its own folder), CASADIPATH, the bare name
+(dlopen's own search: RPATH $ORIGIN of libcasadi, LD_LIBRARY_PATH, the system folders), and last
+"." - the working folder - taking the first that loads. A library's constructor runs when it is
+opened, so a name tried there runs the code of ./libcasadi_nlpsol_<name>.so even when CasADi then
+refuses it; so does a plugin that is shipped but cannot load from CasADi's folder (its dependency
+missing: HSL's MA27 for blockSQP's default linear solver, the KNITRO, SNOPT, WORHP and MadNLP
+libraries): the search falls through to the working folder. `casadi.has_nlpsol(name)` searches
+the same way. IPOPT's own loading of HSL and Pardiso (`linear_solver` ma27..., pardiso) uses
+dlopen's search (no working folder) unless `hsllib` or `pardisolib` name a path; its MA97 crashes
+the process. The "." cannot be removed by any setting of CasADi's.
 
 So ocp (i) checks every plugin name it hands to CasADi - the solver, a QP or linear solver option,
 an integrator - against those declared here and shipped in CasADi's folder, and loadable from there
@@ -63,9 +64,9 @@ class Number:
         return number
 
     def accepted(self):
-        low = f"> {self.low:g}" if self.above else (f">= {self.low:g}" if self.low > -math.inf else "")
-        high = f"<= {self.high:g}" if self.high < math.inf else ""
-        return "a finite number" + (f" {low}" if low else "") + (f" and {high}" if low and high else f" {high}" if high else "")
+        bounds = [f"> {self.low:g}" if self.above else f">= {self.low:g}"] if self.low > -math.inf else []
+        bounds += [f"<= {self.high:g}"] if self.high < math.inf else []
+        return " ".join(["a finite number", " and ".join(bounds)]).strip()
 
     def example(self):
         return min(self.high, self.low + 1.0) if self.low > -math.inf else 1.0
@@ -358,9 +359,9 @@ SOLVERS = {
     "madnlp": Solver(),
 }
 
-#: the plugins of each kind ocp may hand to CasADi: those declared above, and the integrators and
-#: root finder of `ocp.direct.shooting`
-PLUGINS = {"nlpsol": tuple(SOLVERS), "conic": tuple(CONICS), "linsol": LINSOLS,
+#: the plugins of each kind ocp may hand to CasADi: those declared above (read when asked, so that
+#: an entry added is seen), and the integrators and root finder of `ocp.direct.shooting`
+PLUGINS = {"nlpsol": SOLVERS.keys(), "conic": CONICS.keys(), "linsol": LINSOLS,
            "integrator": ("collocation", "cvodes"), "rootfinder": ("fast_newton",)}
 
 
@@ -371,14 +372,16 @@ def folder():
     return os.path.dirname(os.path.abspath(casadi.__file__))
 
 
-@functools.cache
 def available(kind, name):
     """Whether `name` is a plugin of `kind` that ocp declares (PLUGINS), CasADi ships
     (libcasadi_<kind>_<name>.so in its folder) and that loads from there by its absolute path (its
     dependencies found): only then does CasADi's own search stop at its folder. Nothing is loaded
     for a name that is not declared."""
-    if kind not in PLUGINS or name not in PLUGINS[kind]:
-        return False
+    return kind in PLUGINS and name in PLUGINS[kind] and _loads(kind, name)
+
+
+@functools.cache
+def _loads(kind, name):
     path = os.path.join(folder(), f"libcasadi_{kind}_{name}.so")
     if not os.path.isfile(path):
         return False

@@ -29,15 +29,16 @@ private empty folder of its own (`loading`), so that CasADi's last search path "
 whatever the options (a default of a plugin included).
 """
 
+import atexit
 import contextlib
 import ctypes
-import functools
 import math
 import os
 import tempfile
 import threading
 from dataclasses import dataclass, field
 
+from ..core.cache import cached
 from ..core.errors import Fault, InputError, short
 
 TOL = 1e-8
@@ -380,7 +381,7 @@ def available(kind, name):
     return kind in PLUGINS and name in PLUGINS[kind] and _loads(kind, name)
 
 
-@functools.cache
+@cached          # a repeated check after `clear` costs a stat and a dlopen of a library already open
 def _loads(kind, name):
     path = os.path.join(folder(), f"libcasadi_{kind}_{name}.so")
     if not os.path.isfile(path):
@@ -439,25 +440,24 @@ def quiet_options(name, options, symbolic, lbg, ubg):
 _lock = threading.Lock()
 _entered = 0
 _back = None
-
-
-@functools.cache
-def _empty():
-    return tempfile.mkdtemp(prefix="ocp-casadi-")
+_private = None
 
 
 @contextlib.contextmanager
 def loading():
     """Run CasADi calls that may load a plugin with the working folder set to a private empty folder
-    (created once per process, mode 0700), so that CasADi's last search path "." finds nothing;
+    (created once per process, mode 0700, removed at its exit), so that CasADi's last search path "." finds nothing;
     restored on leaving (by descriptor: a renamed or removed working folder comes back too).
     Re-entrant and shared between threads: the first to enter moves, the last to leave restores."""
-    global _entered, _back
+    global _entered, _back, _private
     with _lock:
         if _entered == 0:
             try:
+                if _private is None:
+                    _private = tempfile.mkdtemp(prefix="ocp-casadi-")
+                    atexit.register(_remove, _private, os.getpid())
                 _back = os.open(".", os.O_RDONLY)
-                os.chdir(_empty())
+                os.chdir(_private)
             except OSError as err:
                 raise Fault(f"cannot enter ocp's private folder for loading CasADi plugins: {err}") from None
         _entered += 1
@@ -470,6 +470,13 @@ def loading():
                 os.fchdir(_back)
                 os.close(_back)
                 _back = None
+
+
+def _remove(path, pid):
+    """At exit of the process that made it, the private folder removed (if still empty)."""
+    if os.getpid() == pid:
+        with contextlib.suppress(OSError):
+            os.rmdir(path)
 
 
 class Guarded:

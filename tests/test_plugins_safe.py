@@ -222,3 +222,12 @@ def test_a_solver_the_wheel_ships_is_one_entry(monkeypatch):
     with pytest.raises(InputError, match="expand"):
         options.checked({"expand": 1}, solver="uno")
     assert build(ocp.MultipleShooting(N=5), "uno", options.checked({"expand": True}, solver="uno")).n_w > 0
+
+
+@pytest.mark.parametrize("qp", [name for name in solvers.CONICS if solvers.available("conic", name)])
+def test_every_allowed_qp_option_is_one_its_qp_solver_accepts(qp):
+    """As above for the QP solvers of sqpmethod: each one's options, at sample values, build."""
+    from ocp.direct.nlp import build
+
+    sample = {"qpsol": qp, "qpsol_options": solvers.Table(solvers.CONICS[qp].fields).example()}
+    build(ocp.MultipleShooting(N=5), "sqpmethod", options.checked(sample, solver="sqpmethod"))

@@ -42,7 +42,7 @@ def _option(text):
         raise argparse.ArgumentTypeError(f"{text!r} is not KEY=VALUE (e.g. ipopt.tol=1e-10)")
     try:
         return key, json.loads(value)
-    except (json.JSONDecodeError, RecursionError):
+    except (ValueError, RecursionError):        # not JSON, or an integer of more than 4300 digits
         return key, value
 
 
@@ -77,9 +77,10 @@ def _add_solve(sub):
     d.add_argument("--degree", help="direct collocation: Radau points per interval, default 3")
     d.add_argument("--solver", default="ipopt", help="a casadi.nlpsol plugin (ipopt, fatrop, sqpmethod, ...)")
     d.add_argument("--option", action="append", type=_option, default=[], metavar="KEY=VALUE",
-                   help="an NLP solver option, passed untouched (repeatable), e.g. ipopt.tol=1e-10")
+                   help="an NLP solver option on its allow-list, typed (repeatable), e.g. ipopt.tol=1e-10")
     d.add_argument("--allow-unsafe-options", action="store_true",
-                   help="permit options that run a program or read or write a file (jit, output_file, ...)")
+                   help="pass any option untouched, also those that load a library, run a program or "
+                        "touch a file (a relative path is then relative to a private empty folder)")
     d.add_argument("--miss-tol", help="largest re-simulated miss of a direct answer accepted, default 1e-6")
     p.set_defaults(run=_run_solve)
 

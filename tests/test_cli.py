@@ -99,7 +99,7 @@ def test_a_direct_stage_is_classified_against_the_search():
 
 
 @pytest.mark.parametrize("args, says", [
-    (["--option", "ipopt.max_iter=-1"], "Invalid options were detected by Ipopt"),
+    (["--allow-unsafe-options", "--option", "ipopt.max_iter=-1"], "Invalid options were detected by Ipopt"),
     (["--solver", "fatrop", "--transcription", "direct-collocation"], "Fatrop: specified structure"),
 ])
 def test_a_rejected_nlp_build_prints_one_line_only(args, says, capfd):

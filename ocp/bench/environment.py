@@ -6,11 +6,9 @@ import os
 import platform
 from pathlib import Path
 
-import casadi as ca
-
 from ..core.provenance import git_commit
 from ..direct import INTEGRATORS
-from ..direct.nlp import available_solvers
+from ..direct.solvers import available, available_solvers
 
 #: distributions whose versions are recorded (absent ones are recorded as None)
 PACKAGES = ("ocp", "casadi", "numpy", "scipy", "matplotlib", "rockit-meco", "dask", "distributed")
@@ -44,7 +42,7 @@ def environment():
         "platform": platform.platform(),
         "packages": {name: _version(name) for name in PACKAGES},
         "casadi_nlpsol_plugins": available_solvers(),
-        "casadi_integrator_plugins": [name for name in INTEGRATORS if name != "rk4" and ca.has_integrator(name)],
+        "casadi_integrator_plugins": [name for name in INTEGRATORS if name != "rk4" and available("integrator", name)],
         "cpu": _cpu(),
         "cores": os.cpu_count(),
         "load_average": list(os.getloadavg()),

@@ -16,6 +16,7 @@ import numpy as np
 from .. import direct
 from ..core.errors import last_line
 from ..core.problem import CONTROL_BOUNDS, dynamics, terminal_bounds, terminal_constraints
+from ..direct import solvers
 from ..direct.solve import best_of, verified
 from .suite import PEER_FREE_GRID
 
@@ -53,16 +54,20 @@ def _ocp(problem, method, T_guess):
     settings = method.transcription_object()
     grid = rockit.FreeGrid() if method.transcription == PEER_FREE_GRID else rockit.UniformGrid()
     oc.method(rockit.MultipleShooting(N=settings.N, M=settings.M, intg="rk", grid=grid))
-    options = {"expand": True, "print_time": False}
-    if method.solver == "ipopt":
-        options.update({"ipopt.print_level": 0, "ipopt.sb": "yes"})
-    oc.solver(method.solver, dict(options, **method.applied))
+    solvers.require("nlpsol", method.solver)
+    quiet = {"expand": True, "print_time": False, **solvers.solver(method.solver).quiet}
+    oc.solver(method.solver, quiet | method.applied)
     return oc, (theta, omega, u)
 
 
 def solve(problem, method, guess=None, miss_tol=direct.MISS_TOL):
     """An ocp `Solution` of `problem` by rockit; `guess` None (ocp's default starts) or a Guess.
     Returns (solution, (n_w, n_g)), the NLP size as rockit built it."""
+    with solvers.loading():             # rockit's nlpsol loads its plugins here: never from the working folder
+        return _solve(problem, method, guess, miss_tol)
+
+
+def _solve(problem, method, guess, miss_tol):
     start = time.perf_counter()
     settings = method.transcription_object()
     guesses = direct.default_guesses(problem, settings.N) if guess is None else [guess]

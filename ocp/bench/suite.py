@@ -23,8 +23,8 @@ these" and the table expands to the Cartesian product of its lists:
     configuration = ["default", "fair"]   # the solver's defaults, or its fair configuration
                                           # (ocp.bench.configurations)
     options = { ipopt = { "ipopt.tol" = 1e-10 } }   # per solver, over the configuration's, passed to
-                                                    # casadi.nlpsol untouched (options that run a
-                                                    # program or touch a file are refused)
+                                                    # casadi.nlpsol if on the solver's allow-list
+                                                    # (ocp.direct.solvers), typed
 
 Every value is checked when the file is read (`load`): its type (a string is not a number), its
 range, the name (it names the default store, so it cannot leave the working folder), and the size
@@ -50,7 +50,6 @@ from importlib import resources
 from .. import direct
 from ..core import problem as problems
 from ..core.errors import Fault, InputError, finite, integer, short
-from ..direct.nlp import SOLVER_NAME
 from ..direct.options import checked
 from . import configurations
 
@@ -137,9 +136,7 @@ class Method:
     configuration: str = configurations.DEFAULT
 
     def __post_init__(self):
-        if not isinstance(self.solver, str) or not SOLVER_NAME.fullmatch(self.solver):
-            raise InputError(f"solver = {short(self.solver)} is not a solver name; accepted: a casadi.nlpsol plugin "
-                             f"name (lower-case letters, digits, _), e.g. ipopt")
+        checked(self.options, where=f"options of {self.transcription} / {self.solver}", solver=self.solver)
         if self.transcription not in KINDS_OF_METHOD:
             raise InputError(f"unknown transcription {self.transcription!r}; accepted: {', '.join(KINDS_OF_METHOD)}")
         if self.transcription == SEARCH and (self.settings or self.options or self.solver != "ipopt"
@@ -147,7 +144,6 @@ class Method:
             raise InputError("the extremal search takes no transcription settings, solver, configuration or options")
         if self.transcription in PEERS and set(self.given) - {"N", "M"}:
             raise InputError(f"the rockit peer takes N and M only, not {sorted(set(self.given) - {'N', 'M'})}")
-        checked(self.options, where=f"options of {self.transcription} / {self.solver}")
         self.applied                         # validates the configuration
         self.transcription_object()          # validates the settings
 

@@ -13,7 +13,6 @@ one build serves every problem (`build`, cached in `ocp.core.cache`).
 
 import json
 import math
-import re
 import time
 from dataclasses import dataclass
 
@@ -24,12 +23,7 @@ from ..core.errors import InputError, last_line
 from ..core.output import solver_output
 from ..core.problem import CONTROL_BOUNDS, terminal_bounds, terminal_constraints
 from .base import Transcription
-
-#: NLP plugins tried by `available_solvers`
-NLP_PLUGINS = ("ipopt", "fatrop", "sqpmethod", "feasiblesqpmethod", "blocksqp", "bonmin", "knitro", "snopt",
-               "worhp", "madnlp", "alpaqa", "qrsqp", "scpgen")
-#: what a solver name may be: CasADi loads the library libcasadi_nlpsol_<name>, so nothing else is tried
-SOLVER_NAME = re.compile(r"[a-z][a-z0-9_]{0,31}")
+from . import solvers
 
 
 @dataclass
@@ -108,43 +102,14 @@ def _nlp(settings, reading):
     return nlp, np.array(lbg), np.array(ubg)
 
 
-def _solver_options(solver_name, options, settings, lbg, ubg):
-    """CasADi's defaults, made quiet, under the user's options (which win): expand where the
-    integrator allows it, print levels off; fatrop is told which constraints are equalities."""
-    opts = dict(options)
-    if settings.symbolic == "SX":
-        opts.setdefault("expand", True)
-    opts.setdefault("print_time", False)
-    if solver_name == "ipopt":
-        opts.setdefault("ipopt.print_level", 0)
-        opts.setdefault("ipopt.sb", "yes")
-    elif solver_name == "fatrop":
-        opts.setdefault("structure_detection", "auto")
-        opts.setdefault("equality", [bool(lo == hi) for lo, hi in zip(lbg, ubg)])
-        opts.setdefault("fatrop.print_level", 0)
-    elif solver_name in ("sqpmethod", "feasiblesqpmethod"):
-        opts.setdefault("print_header", False)
-        opts.setdefault("print_iteration", False)
-        # CasADi's QP solver (qpOASES unless the user names another), silenced, a failed QP
-        # reported through the NLP's status instead of raised
-        quiet = {"qpoases": {"printLevel": "none"}, "qrqp": {"print_iter": False, "print_header": False}}
-        opts.setdefault("qpsol_options", {**quiet.get(opts.get("qpsol", "qpoases"), {}), "error_on_fail": False})
-    elif solver_name == "bonmin":
-        opts.setdefault("bonmin.print_level", 0)
-    return opts
-
-
 def build(settings, solver_name="ipopt", options=None, reading="circle"):
     """The NLP of `settings` for `reading`, handed to casadi.nlpsol(solver_name, options): cached
-    per arguments (`ocp.core.cache.clear` forgets it). `options` pass to nlpsol untouched, over
-    quiet defaults; the caller has checked them (`ocp.direct.options.checked`)."""
-    import casadi as ca
-
-    if not isinstance(solver_name, str) or not SOLVER_NAME.fullmatch(solver_name):
-        raise InputError(f"solver {str(solver_name)[:40]!r} is not a solver name (lower-case letters, digits, _); "
-                         f"accepted: {', '.join(available_solvers())}")
-    if not ca.has_nlpsol(solver_name):
-        raise InputError(f"unknown or unavailable NLP solver {solver_name!r}; accepted: {', '.join(available_solvers())}")
+    per arguments (`ocp.core.cache.clear` forgets it). `options` pass to nlpsol over quiet defaults
+    (`ocp.direct.solvers.quiet_options`); the caller has checked them (`ocp.direct.options.checked`).
+    The solver is one of `ocp.direct.solvers.SOLVERS`, loadable from CasADi's folder, checked before
+    CasADi sees its name; the build and every call of the solver run inside `solvers.loading`."""
+    solvers.solver(solver_name)
+    solvers.require("nlpsol", solver_name)
     return _build(settings, solver_name, json.dumps(options or {}, sort_keys=True), reading)
 
 
@@ -153,16 +118,18 @@ def _build(settings, solver_name, options_json, reading):
     import casadi as ca
 
     start = time.perf_counter()
-    nlp, lbg, ubg = _nlp(settings, reading)
     options = json.loads(options_json)
-    try:
-        with solver_output("devnull"):      # a rejected option prints the solver's help, fatrop hundreds of warnings
-            solver = ca.nlpsol("nlp", solver_name, nlp, _solver_options(solver_name, options, settings, lbg, ubg))
-    except RuntimeError as err:
-        raise InputError(f"casadi.nlpsol({solver_name!r}) could not be built with the options {options}: "
-                         f"{_cause(err, solver_name)}") from None
-    return NLP(settings, solver_name, options, reading, solver, nlp["x"].numel(), nlp["g"].numel(), lbg, ubg,
-               time.perf_counter() - start)
+    with solvers.loading():
+        nlp, lbg, ubg = _nlp(settings, reading)
+        try:
+            with solver_output("devnull"):      # a rejected option prints the solver's help, fatrop hundreds of warnings
+                function = ca.nlpsol("nlp", solver_name, nlp,
+                                     solvers.quiet_options(solver_name, options, settings.symbolic, lbg, ubg))
+        except RuntimeError as err:
+            raise InputError(f"casadi.nlpsol({solver_name!r}) could not be built with the options {options}: "
+                             f"{_cause(err, solver_name)}") from None
+    return NLP(settings, solver_name, options, reading, solvers.Guarded(function), nlp["x"].numel(), nlp["g"].numel(),
+               lbg, ubg, time.perf_counter() - start)
 
 
 def _cause(err, solver_name):
@@ -173,9 +140,3 @@ def _cause(err, solver_name):
             return line.split(". ", 1)[0].rstrip(".") + "."
     return last_line(err)
 
-
-def available_solvers():
-    """The `casadi.nlpsol` plugins this CasADi build can load."""
-    import casadi as ca
-
-    return [name for name in NLP_PLUGINS if ca.has_nlpsol(name)]

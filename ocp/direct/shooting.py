@@ -10,6 +10,8 @@ A new integrator: a function (settings) -> F(x, u, h, kappa) and one line in INT
 from dataclasses import dataclass
 
 from ..core import model
+from ..core.errors import Fault
+from . import solvers
 from .base import N_MAX, Setting, Transcription
 
 M_MAX = 64
@@ -35,11 +37,17 @@ def _rk4(settings):
 
 
 def _casadi_integrator(plugin, options):
+    """CasADi's integrator `plugin` (and the root finder an option names), each checked to be a
+    plugin CasADi ships and loads from its own folder, built inside `solvers.loading`."""
     import casadi as ca
 
+    solvers.require("integrator", plugin, Fault)
+    if "rootfinder" in options:
+        solvers.require("rootfinder", options["rootfinder"], Fault)
     x, u, h, kappa = ca.SX.sym("x", 2), ca.SX.sym("u"), ca.SX.sym("h"), ca.SX.sym("kappa")
-    integ = ca.integrator("I", plugin, {"x": x, "p": ca.vertcat(u, h, kappa), "ode": h * model.rhs(x, u, kappa)},
-                          0, 1, options)
+    with solvers.loading():
+        integ = ca.integrator("I", plugin, {"x": x, "p": ca.vertcat(u, h, kappa), "ode": h * model.rhs(x, u, kappa)},
+                              0, 1, options)
     xs, us, hs, ks = ca.MX.sym("x", 2), ca.MX.sym("u"), ca.MX.sym("h"), ca.MX.sym("kappa")
     return ca.Function("F", [xs, us, hs, ks], [integ(x0=xs, p=ca.vertcat(us, hs, ks))["xf"]])
 

@@ -140,7 +140,7 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     if not (isinstance(miss_tol, (int, float)) and 0 < miss_tol < 1):
         raise InputError(f"miss_tol = {miss_tol!r} must be a number in (0, 1)")
     start = time.perf_counter()
-    nlp = build(method, solver, checked(options, trusted), problem.reading)
+    nlp = build(method, solver, checked(options, trusted, solver=solver), problem.reading)
     if guess is None:
         guesses = default_guesses(problem, method.N)
     elif isinstance(guess, DirectSolution):

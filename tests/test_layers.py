@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "ocp"
 #: bottom to top; a module of layer L may import layers < L and its own package
 LAYERS = [{"core"}, {"exact", "scenes"}, {"direct", "indirect"}, {"result"}, {"solving"}, {"synthesis"}, {"papers"},
-          {"bench"}, {"figures"}, {"cli"}]
+          {"bench"}, {"figures"}, {"commands"}, {"cli"}]
 
 
 def layer(part):

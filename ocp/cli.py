@@ -145,10 +145,11 @@ def _main(argv):
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
-    except OSError as err:
-        if err.errno not in (errno.ENOSPC, errno.EIO, errno.EBADF, errno.EDQUOT, errno.EFBIG) or not _output_broken():
+    except OSError as err:           # a full disk or device, an I/O error, standard output closed meanwhile
+        if err.errno not in (errno.ENOSPC, errno.EIO, errno.EBADF, errno.EDQUOT, errno.EFBIG):
             raise
-        print(f"failed: cannot write to standard output: {printable(err.strerror)}", file=sys.stderr)
+        print(f"failed: cannot write {printable(err.filename) if err.filename else 'to standard output'}: "
+              f"{printable(err.strerror)}", file=sys.stderr)
         _quiet_stdout()
         return 1
 

@@ -127,11 +127,17 @@ def edited(argv, changes):
     return argv
 
 
+#: values that pass many checks, so that the fuzz gets past the first one
+PLAUSIBLE = ["1", "0.5", "2", "20", "swing-up", "damping", "quick", "ok.toml", "s.sqlite", "out", "png",
+             "swing-up/circle/1", "finch2015", "finch-fig1"]
+
+
 def values(action):
     """A strategy of the tokens `action` takes: its choices, its default, numbers and any text, as
     many as its nargs asks (sometimes one too few or too many)."""
     count = {None: 1, "?": 1, "*": 2, "+": 2, argparse.REMAINDER: 1}.get(action.nargs, action.nargs)
-    pool = [st.sampled_from(NUMBERS), st.text(st.characters(blacklist_characters="\0"), max_size=8)]
+    pool = [st.sampled_from(NUMBERS), st.sampled_from(PLAUSIBLE), st.text(st.characters(blacklist_characters="\0"),
+                                                                           max_size=8)]
     pool += [st.sampled_from([str(c) for c in action.choices])] if action.choices else []
     pool += [st.just(str(action.default))] if isinstance(action.default, str) else []
     token = st.one_of(pool)
@@ -146,7 +152,8 @@ def command_line(draw):
     argv = [name]
     for action in [a for a in actions if not a.option_strings]:
         argv += draw(values(action))
-    for action in draw(st.lists(st.sampled_from([a for a in actions if a.option_strings]), max_size=4)):
+    required = [a for a in actions if a.option_strings and a.required]
+    for action in required + draw(st.lists(st.sampled_from([a for a in actions if a.option_strings]), max_size=4)):
         argv.append(draw(st.sampled_from(action.option_strings)))
         argv += draw(values(action))
     return draw(st.sampled_from([argv, argv + [draw(st.sampled_from(FLAGS))]]))
@@ -158,6 +165,7 @@ def test_every_flag_of_every_command_ends_well(argv, stopped, tmp_path, monkeypa
     """Every command with any of its flags (drawn from the parsers themselves) and any values: exit
     0, 1 or 2 (or it gets past its input), no traceback, one-line errors."""
     monkeypatch.chdir(tmp_path)
+    (tmp_path / "ok.toml").write_text(GOOD_SUITE)
     code, out, err = call(argv)
     assert_well_ended(code, err)
 

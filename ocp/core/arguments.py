@@ -7,8 +7,10 @@ a `Fault` (exit 1), both raised before anything is computed.
 """
 
 import argparse
+import errno
 import os
 import re
+import sys
 from pathlib import Path
 
 from .errors import Fault, InputError, finite, integer, short
@@ -49,6 +51,12 @@ class Parser(argparse.ArgumentParser):
     def error(self, message):
         raise InputError(f"{self.prog}: {message}")
 
+    def _print_message(self, message, file=None):
+        """Help and usage written, a failed write not ignored (argparse's own swallows OSError, so
+        `ocp --help > /dev/full` would exit 0)."""
+        if message:
+            (file or sys.stdout).write(message)
+
 
 def _help(text):
     """Help text as argparse takes it (a % would be read as a format)."""
@@ -85,6 +93,19 @@ def _nonempty(flag, text):
     return Path(text)
 
 
+def _checked(check):
+    """A path check whose OSError (a name too long, a loop of links; a folder not searchable) is
+    one line: InputError for the path's fault, Fault for the environment's."""
+    def run(flag, text):
+        try:
+            return check(flag, text)
+        except OSError as err:
+            kind = InputError if err.errno in (errno.ENAMETOOLONG, errno.ELOOP, errno.ENOTDIR) else Fault
+            raise kind(f"{flag} {short(text)}: {err.strerror}") from None
+    run.__doc__ = check.__doc__
+    return run
+
+
 def _writable_parent(flag, path):
     """The nearest existing ancestor of `path` is a folder we may write in (InputError where a part
     of the path is a file; Fault where the folder is not writable)."""
@@ -97,6 +118,7 @@ def _writable_parent(flag, path):
         raise Fault(f"{flag} {short(str(path))}: cannot write in {short(str(parent))} (permission denied)")
 
 
+@_checked
 def output_folder(flag, text):
     """The folder of `flag` (e.g. --out), checked before any work: a non-empty path that is a
     writable folder or can be made one (it is made when the first file is written)."""
@@ -111,6 +133,7 @@ def output_folder(flag, text):
     return path
 
 
+@_checked
 def output_file(flag, text):
     """The file of `flag` (e.g. --store, appended to or created), checked before any work: a
     non-empty path, not a folder, writable or creatable."""
@@ -125,6 +148,7 @@ def output_file(flag, text):
     return path
 
 
+@_checked
 def input_file(flag, text):
     """A file read (it may be absent where the command says so): a non-empty path, not a folder."""
     path = _nonempty(flag, text)

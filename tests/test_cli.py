@@ -146,17 +146,21 @@ def test_strict_input_is_one_line_and_exit_2(args, says, capsys, tmp_path, monke
 
 @pytest.mark.parametrize("command", [["synthesis", "swing-up", "--kappa", "1"],
                                      ["failure-map", "swing-up", "--kappa", "1"], ["figures"]])
-def test_an_out_that_is_a_file_is_refused_before_any_work(command, tmp_path, capsys):
+def test_an_out_that_cannot_be_made_is_one_line_before_any_work(command, tmp_path, capsys, monkeypatch):
+    """A fault of the environment (exit 1), found before the first map, cell or figure."""
+    for work in ("ocp.synthesis.field.synthesize", "ocp.direct.nlp.build", "ocp.figures.write"):
+        monkeypatch.setattr(work, lambda *args, **kwargs: pytest.fail("worked before the check"))
     (tmp_path / "file").write_text("")
-    assert main([*command, "--out", str(tmp_path / "file" / "maps")]) == 2
-    assert "is a file, not a folder" in capsys.readouterr().err
+    assert main([*command, "--out", str(tmp_path / "file" / "maps")]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("failed:") and err.count("\n") == 1 and "is a file, not a folder" in err
 
 
 def test_bifurcation_checks_its_store_before_computing(tmp_path, capsys, monkeypatch):
     """Issue 18: the value was computed, then lost to a --store that could not be written."""
     monkeypatch.setattr("ocp.synthesis.results.compute", lambda case: pytest.fail("computed before the check"))
     (tmp_path / "file").write_text("")
-    assert main(["bifurcation", "--case", "swing-up/circle/1", "--store", str(tmp_path / "file" / "b.jsonl")]) == 2
+    assert main(["bifurcation", "--case", "swing-up/circle/1", "--store", str(tmp_path / "file" / "b.jsonl")]) == 1
     assert "is a file, not a folder" in capsys.readouterr().err
 
 

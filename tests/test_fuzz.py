@@ -73,6 +73,7 @@ def stopped(monkeypatch):
     monkeypatch.setattr(runner, "run", stop)
     monkeypatch.setattr(runner, "executor", stop)               # no worker process runs an unpatched command
     monkeypatch.setattr("ocp.synthesis.field.synthesize", stop)
+    monkeypatch.setattr("ocp.direct.nlp.build", lambda *args, **kwargs: None)    # failure-map's trial build
     monkeypatch.setattr("ocp.bench.environment.environment", dict)
     monkeypatch.setattr("ocp.papers.verify.rows", stop)
     monkeypatch.setattr("ocp.bench.report.report", stop)

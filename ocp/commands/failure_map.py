@@ -2,8 +2,8 @@
 figure (`ocp.figures.failure_map`).
 
 Everything the cells need is checked before the first cell: the solver (among the plugins this
-CasADi build has, no unknown name loaded), the transcription and its N, the configuration, the
-window, the formats and the --out folder.
+CasADi build has, no unknown name loaded), the transcription and its N, the configuration, the NLP
+built once with them, the window, the formats and the --out folder.
 """
 
 from ..core.arguments import add_settings, add_window, formats, given_settings, jobs, output_folder, problem_kappas, window
@@ -68,7 +68,7 @@ def run(args):
     from ..core import plotting
     from ..core.output import print_json, printable, solver_output
     from ..core.problem import OMEGA_LIMIT, THETA_LIMIT
-    from ..direct.nlp import available_solvers
+    from ..direct.nlp import available_solvers, build
     from ..synthesis.field import Window, synthesize
     from ..figures.failure_map import draw_grid, draw_sweep
 
@@ -77,14 +77,14 @@ def run(args):
         raise InputError("kappa: one value (a grid of starts), or LO HI with LO < HI and --sweep COUNT")
     if args.x0 is not None and args.sweep is None:
         raise InputError("--x0 is the start of a sweep: add --sweep COUNT (a grid takes its starts from --window)")
+    chosen = formats(args.format)
+    out = output_folder("--out", args.out)
     solvers = available_solvers()
     if args.solver not in solvers:
         raise InputError(f"solver {short(args.solver)} is not available; accepted: {', '.join(solvers)}")
     N = given_settings(args, _n_setting()).get("N", 25)
     method = Method(args.transcription, (("N", N),), args.solver, {}, args.configuration)
     workers = jobs(args.jobs)
-    chosen = formats(args.format)
-    out = output_folder("--out", args.out)
     if args.sweep is not None:
         cells = integer("sweep", args.sweep, f"an integer from {SWEEP[0]} to {SWEEP[1]}", *SWEEP)
         x0 = None if args.x0 is None else (
@@ -94,6 +94,8 @@ def run(args):
         values, horizon = window(args, *GRID)
         grid = Window(*values)
         cells = grid.n_theta * grid.n_omega
+    with solver_output("devnull"):          # the NLP once, last: a solver that cannot build it is one line,
+        build(method.transcription_object(), method.solver, method.applied, "circle")   # not a map of build errors
     with executor(workers) as (pool, workers, _), solver_output("stderr"):
         progress = Progress(cells, "cells")
         if args.sweep is not None:

@@ -107,27 +107,28 @@ def _checked(check):
 
 
 def _writable_parent(flag, path):
-    """The nearest existing ancestor of `path` is a folder we may write in (InputError where a part
-    of the path is a file; Fault where the folder is not writable)."""
+    """The nearest existing ancestor of `path` is a folder we may write in (else a Fault, as the
+    failed mkdir would be)."""
     parent = path.absolute().parent
     while not parent.exists():
         parent = parent.parent
     if not parent.is_dir():
-        raise InputError(f"{flag} {short(str(path))}: {short(str(parent))} is a file, not a folder")
+        raise Fault(f"{flag} {str(path)!r}: cannot be made, {str(parent)!r} is a file, not a folder")
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise Fault(f"{flag} {short(str(path))}: cannot write in {short(str(parent))} (permission denied)")
+        raise Fault(f"{flag} {str(path)!r}: cannot write in {str(parent)!r} (permission denied)")
 
 
 @_checked
 def output_folder(flag, text):
-    """The folder of `flag` (e.g. --out), checked before any work: a non-empty path that is a
-    writable folder or can be made one (it is made when the first file is written)."""
+    """The folder of `flag` (e.g. --out), checked before any work: a non-empty path (else
+    InputError) that is a writable folder or can be made one (else Fault); it is made when the
+    first file is written."""
     path = _nonempty(flag, text)
     if path.exists() and not path.is_dir():
-        raise InputError(f"{flag} {short(text)} is a file, not a folder")
+        raise Fault(f"{flag} {text!r} is a file, not a folder")
     if path.is_dir():
         if not os.access(path, os.W_OK | os.X_OK):
-            raise Fault(f"{flag} {short(text)}: cannot write in this folder (permission denied)")
+            raise Fault(f"{flag} {text!r}: cannot write in this folder (permission denied)")
     else:
         _writable_parent(flag, path)
     return path
@@ -136,13 +137,13 @@ def output_folder(flag, text):
 @_checked
 def output_file(flag, text):
     """The file of `flag` (e.g. --store, appended to or created), checked before any work: a
-    non-empty path, not a folder, writable or creatable."""
+    non-empty path, not a folder (else InputError), writable or creatable (else Fault)."""
     path = _nonempty(flag, text)
     if path.is_dir():
-        raise InputError(f"{flag} {short(text)} is a folder, not a file")
+        raise InputError(f"{flag} {text!r} is a folder, not a file")
     if path.exists():
         if not os.access(path, os.R_OK | os.W_OK):
-            raise Fault(f"{flag} {short(text)}: cannot read and write this file (permission denied)")
+            raise Fault(f"{flag} {text!r}: cannot read and write this file (permission denied)")
     else:
         _writable_parent(flag, path)
     return path

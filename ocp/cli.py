@@ -92,10 +92,11 @@ def _interruptible(hard):
         try:
             while os.read(woken, 1) != bytes([signal.SIGINT]):
                 pass
-            for _ in range(int(INTERRUPT_GRACE)):
-                if stopped.wait(1.0) and not hard:
-                    return
-                _thread.interrupt_main()
+            if stopped.wait(INTERRUPT_GRACE / 2) and not hard:
+                return
+            _thread.interrupt_main()                    # once: a second one could cut a command's own cleanup
+            if stopped.wait(INTERRUPT_GRACE / 2) and not hard:
+                return
             os.write(stderr, b"interrupted\n")
             os._exit(130)
         finally:

@@ -160,7 +160,7 @@ def command_line(draw):
     return draw(st.sampled_from([argv, argv + [draw(st.sampled_from(FLAGS))]]))
 
 
-@settings(FUZZ, max_examples=300)
+@settings(FUZZ, max_examples=200)
 @given(argv=command_line())
 def test_every_flag_of_every_command_ends_well(argv, stopped, tmp_path, monkeypatch):
     """Every command with any of its flags (drawn from the parsers themselves) and any values: exit
@@ -279,7 +279,7 @@ json_value = st.recursive(st.none() | st.booleans() | st.integers() | st.floats(
                                                                                       max_size=2), max_leaves=4)
 
 
-@settings(FUZZ, max_examples=12)
+@settings(FUZZ, max_examples=6)         # each a real report with its charts, about 2 s
 @given(key=st.sampled_from(sorted(row(1))) | st.text(max_size=4), value=json_value)
 def test_any_stored_record_ends_well_and_the_store_is_unchanged(key, value, tmp_path_factory):
     """A store whose second row has any value in any field: `ocp report` ends with a report (exit 0)

@@ -118,35 +118,30 @@ def _writable_parent(flag, path):
         raise Fault(f"{flag} {str(path)!r}: cannot write in {str(parent)!r} (permission denied)")
 
 
-@_checked
-def output_folder(flag, text):
-    """The folder of `flag` (e.g. --out), checked before any work: a non-empty path (else
-    InputError) that is a writable folder or can be made one (else Fault); it is made when the
-    first file is written."""
+def _output(flag, text, folder):
+    """The path of `flag` checked before any work: non-empty (else InputError); a folder (`folder`)
+    or a file as asked, that can be written or made (else Fault, as the failed write would be)."""
     path = _nonempty(flag, text)
-    if path.exists() and not path.is_dir():
-        raise Fault(f"{flag} {text!r} is a file, not a folder")
-    if path.is_dir():
-        if not os.access(path, os.W_OK | os.X_OK):
-            raise Fault(f"{flag} {text!r}: cannot write in this folder (permission denied)")
+    if path.exists():
+        if path.is_dir() != folder:
+            raise Fault(f"{flag} {text!r} is a {'file, not a folder' if folder else 'folder, not a file'}")
+        if not os.access(path, os.W_OK | (os.X_OK if folder else os.R_OK)):
+            raise Fault(f"{flag} {text!r}: cannot write {'in this folder' if folder else 'this file'} (permission denied)")
     else:
         _writable_parent(flag, path)
     return path
+
+
+@_checked
+def output_folder(flag, text):
+    """The folder of `flag` (e.g. --out), made when the first file is written (`_output`)."""
+    return _output(flag, text, folder=True)
 
 
 @_checked
 def output_file(flag, text):
-    """The file of `flag` (e.g. --store, appended to or created), checked before any work: a
-    non-empty path, not a folder (else InputError), writable or creatable (else Fault)."""
-    path = _nonempty(flag, text)
-    if path.is_dir():
-        raise InputError(f"{flag} {text!r} is a folder, not a file")
-    if path.exists():
-        if not os.access(path, os.R_OK | os.W_OK):
-            raise Fault(f"{flag} {text!r}: cannot read and write this file (permission denied)")
-    else:
-        _writable_parent(flag, path)
-    return path
+    """The file of `flag` (e.g. --store), appended to or created (`_output`)."""
+    return _output(flag, text, folder=False)
 
 
 @_checked

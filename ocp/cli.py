@@ -77,10 +77,12 @@ def _interruptible(hard):
     """SIGINT honoured within INTERRUPT_GRACE seconds. Python raises KeyboardInterrupt only when the
     main thread next runs Python code, and a library may catch it (CasADi ends the running NLP solve
     with it and returns; a weakref callback ignores it). So a thread woken by the signal itself
-    (`signal.set_wakeup_fd`) raises it again each second, and, with `hard` (the process is ocp's
-    own), ends a command still running after INTERRUPT_GRACE seconds (inside compiled code that
-    never looks at signals, such as CasADi building a large NLP): what is stored is stored row by
-    row or written whole (`ocp.core.files`), so nothing finished is lost. In the main thread only."""
+    (`signal.set_wakeup_fd`) raises it once more after INTERRUPT_GRACE / 2 seconds (once: a second
+    could cut a command's own cleanup, such as bench's line on the rows kept), and, with `hard`
+    (the process is ocp's own), ends a command still running after INTERRUPT_GRACE seconds (inside
+    compiled code that never looks at signals, such as CasADi building a large NLP): what is stored
+    is stored row by row or written whole (`ocp.core.files`), so nothing finished is lost. In the
+    main thread only."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return

@@ -129,3 +129,103 @@ def test_version_and_the_help_that_says_where_things_are(capsys):
     assert all(f"  {name}  " in outputs[1] for name in FIGURES)
     suites = Path(ocp.bench.__file__).parent / "suites"
     assert "ocp/bench/suites/" in " ".join(outputs[2].split()) and any(suites.glob("*.toml"))
+
+
+@pytest.mark.parametrize("args, says", [
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--N", "\u00b2"], "N = '\u00b2' is not an integer"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--N", "+-1"], "N = '+-1' is not an integer"),
+    (["solve", "swing-up", "--kappa", "1", "--branch", "\u0661"], "branch"),
+    (["solve", "swing-up", "--kappa", "1_000"], "kappa = '1_000' is not a number"),
+    (["solve", "swing-up", "--kap", "2"], "required: --kappa"),
+    (["solve", "swing-up", "--kappa", "1", "--dir"], "unrecognized arguments: --dir"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--no-refine"], "not allowed with argument --direct"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--option", "ipopt.tol=Infinity"], "not a finite number"),
+    (["solve", "swing-up", "--kappa", "1", "--direct", "--transcription", "euler"], "invalid choice"),
+    (["report", ""], "store '' is not a path"),
+    (["report", "."], "is a folder, not a file"),
+    (["report", "x.sqlite", "--out", ""], "--out '' is not a path"),
+    (["bench", "--store", ""], "--store '' is not a path"),
+    (["bifurcation", "--store", ""], "--store '' is not a path"),
+    (["figures", "--out", ""], "--out '' is not a path"),
+    (["figures", "--store", ""], "--store '' is not a path"),
+    (["synthesis", "swing-up", "--kappa", "1", "--out", ""], "--out '' is not a path"),
+    (["failure-map", "swing-up", "--kappa", "1", "--out", ""], "--out '' is not a path"),
+    (["failure-map", "swing-up", "--kappa", "1", "--solver", "nosuch"], "solver 'nosuch' is not available"),
+    (["failure-map", "swing-up", "--kappa", "1", "--N", "401"], "N = '401' is out of range"),
+    (["verify", "--paper", "\x1b[31m"], "\\x1b[31m"),
+])
+def test_strict_input_is_one_line_and_exit_2(args, says, capsys, tmp_path, monkeypatch):
+    """Issue 18: text that str.isdigit() or float() passes and a strict reader refuses, prefix
+    matching, incompatible flags, empty paths: each one line, exit 2, nothing written; escape
+    sequences never reach the terminal raw."""
+    monkeypatch.chdir(tmp_path)
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and says in err and err.startswith("error:") and "\x1b" not in err, err
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("command", [["synthesis", "swing-up", "--kappa", "1"],
+                                     ["failure-map", "swing-up", "--kappa", "1"], ["figures"]])
+def test_an_out_that_cannot_be_made_is_one_line_before_any_work(command, tmp_path, capsys, monkeypatch):
+    """A fault of the environment (exit 1), found before the first map, cell or figure."""
+    for work in ("ocp.synthesis.field.synthesize", "ocp.direct.nlp.build", "ocp.figures.write"):
+        monkeypatch.setattr(work, lambda *args, **kwargs: pytest.fail("worked before the check"))
+    (tmp_path / "file").write_text("")
+    assert main([*command, "--out", str(tmp_path / "file" / "maps")]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("failed:") and err.count("\n") == 1 and "is a file, not a folder" in err
+
+
+def test_bifurcation_checks_its_store_before_computing(tmp_path, capsys, monkeypatch):
+    """Issue 18: the value was computed, then lost to a --store that could not be written."""
+    monkeypatch.setattr("ocp.synthesis.results.compute", lambda case: pytest.fail("computed before the check"))
+    (tmp_path / "file").write_text("")
+    assert main(["bifurcation", "--case", "swing-up/circle/1", "--store", str(tmp_path / "file" / "b.jsonl")]) == 1
+    assert "is a file, not a folder" in capsys.readouterr().err
+
+
+def test_version():
+    from importlib.metadata import version
+
+    proc = run("--version")
+    assert proc.returncode == 0 and proc.stdout == f"ocp {version('ocp')}\n"
+
+
+@pytest.mark.parametrize("shell, says", [(">/dev/full", "failed: cannot write to standard output: No space left"),
+                                         (">&-", "failed: standard output is closed")])
+def test_stdout_full_or_closed_is_one_line_and_exit_1(shell, says):
+    proc = subprocess.run(f"{sys.executable} -m ocp.cli --help {shell}", shell=True, capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 1 and proc.stderr.count("\n") == 1 and proc.stderr.startswith(says), proc.stderr
+
+
+def test_a_reader_that_stops_is_not_an_error():
+    proc = subprocess.Popen([sys.executable, "-m", "ocp.cli", "solve", "--help"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    proc.stdout.close()                                     # as `| head -0` does
+    assert proc.wait(timeout=60) == 0 and proc.stderr.read() == b""
+
+
+@pytest.mark.parametrize("args, started, wait", [
+    (["synthesis", "swing-up", "--kappa", "1", "--format", "png"], b"[1/1]", 2),     # Python and numba
+    (["solve", "swing-up", "--kappa", "1", "--no-refine", "--N", "1500"], b"", 6),   # CasADi building a large NLP
+])
+def test_sigint_is_honoured_within_two_seconds(args, started, wait, tmp_path):
+    """Issue 18: SIGINT was ignored for minutes during a long direct solve (CasADi builds the NLP in
+    compiled code that never looks at signals, and ends a running IPOPT solve on it but returns).
+    The solve's NLP of N = 1500 takes about 15 s to build (measured here: 22 s for N = 2000)."""
+    import signal
+    import time
+
+    proc = subprocess.Popen([sys.executable, "-m", "ocp.cli", *args, *(["--out", str(tmp_path)] if started else [])],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path)
+    if started:
+        assert proc.stderr.readline().startswith(started)
+    time.sleep(wait)
+    assert proc.poll() is None, "ended before the signal"
+    sent = time.perf_counter()
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 130 and err.decode().strip().splitlines()[-1] == "interrupted"
+    assert time.perf_counter() - sent < 3.5 and b"Traceback" not in err

@@ -13,6 +13,7 @@ References: the exit statuses of ocp/cli.py and README ("Solving": 0 solved, 1 n
 fault, 2 bad input, one line), ocp.solving.VERIFY_TOL and the miss tolerance of ocp.direct.
 """
 
+import argparse
 import contextlib
 import hashlib
 import io
@@ -70,6 +71,9 @@ def stopped(monkeypatch):
     """Every command stopped where its work would begin."""
     monkeypatch.setattr(solving, "solve", stop)
     monkeypatch.setattr(runner, "run", stop)
+    monkeypatch.setattr(runner, "executor", stop)               # no worker process runs an unpatched command
+    monkeypatch.setattr("ocp.synthesis.field.synthesize", stop)
+    monkeypatch.setattr("ocp.direct.nlp.build", lambda *args, **kwargs: None)    # failure-map's trial build
     monkeypatch.setattr("ocp.bench.environment.environment", dict)
     monkeypatch.setattr("ocp.papers.verify.rows", stop)
     monkeypatch.setattr("ocp.bench.report.report", stop)
@@ -78,15 +82,23 @@ def stopped(monkeypatch):
     monkeypatch.setattr("ocp.bench.failure_map.sweep", stop)
 
 
-FLAGS = ["solve", "bench", "report", "verify", "figures", "swing-up", "damping", "--kappa", "--x0", "--branch",
-         "--plane", "--json", "--direct", "--no-refine", "--transcription", "--N", "--integrator", "--M", "--tol",
-         "--degree", "--solver", "--option", "--allow-unsafe-options", "--miss-tol", "--paper", "--out", "--only",
-         "--format", "--store", "--jobs", "--scheduler", "--yes", "--budget", "--accuracy", "quick", "full",
-         "multiple-shooting", "direct-collocation", "rk4", "cvodes", "collocation", "ipopt", "fatrop", "png,pdf",
-         "finch2015", "finch-fig1", "ipopt.tol=1e-8", "jit=true", "ipopt.max_iter=-1", "-h", "failure-map", "--sweep",
-         "--grid", "--window", "--configuration", "fair", "default", "sqpmethod", "blocksqp"]
+def commands():
+    """{name: parser} of every command of `ocp`, its arguments added: what the fuzz draws from, so
+    that a new command or flag is fuzzed without editing this file."""
+    top = cli.parser()
+    sub = next(a for a in top._actions if isinstance(a, argparse._SubParsersAction))
+    return {name: parser.complete() for name, parser in sub.choices.items()}
+
+
+COMMANDS = commands()
+#: every flag, choice and default of every command, and values that once broke a parser
+FLAGS = sorted(set(COMMANDS) | {o for p in COMMANDS.values() for a in p._actions for o in a.option_strings}
+               | {str(c) for p in COMMANDS.values() for a in p._actions for c in (a.choices or ())}
+               | {str(a.default) for p in COMMANDS.values() for a in p._actions if isinstance(a.default, str)}
+               | {"swing-up", "damping", "quick", "finch2015", "finch-fig1", "ipopt.tol=1e-8", "jit=true",
+                  "ipopt.max_iter=-1", "fatrop", "sqpmethod", "swing-up/circle/1", "--kap", "--dir"})
 NUMBERS = ["0", "1", "-1", "0.5", "-1e-3", "1e9", "1e999", "nan", "inf", "-inf", "9" * 400, "1_000", "0x10", " 2 ",
-           "", "1,5", "3.0"]
+           "", "1,5", "3.0", "\u00b2", "+-1", "\u0661", "1e-3e3", ".", "/", "\x1b[31m"]
 token = st.one_of(st.sampled_from(FLAGS), st.sampled_from(NUMBERS), st.text(st.characters(blacklist_characters="\0"),
                                                                            max_size=12))
 #: commands that get past their input, to be changed by a few edits
@@ -114,6 +126,57 @@ def edited(argv, changes):
         elif at < len(argv):
             argv[at:at + 1] = [text] if how == "replace" else []
     return argv
+
+
+#: values that pass many checks, so that the fuzz gets past the first one
+PLAUSIBLE = ["1", "0.5", "2", "20", "swing-up", "damping", "quick", "ok.toml", "s.sqlite", "out", "png",
+             "swing-up/circle/1", "finch2015", "finch-fig1"]
+
+
+def values(action):
+    """A strategy of the tokens `action` takes: its choices, its default, numbers and any text, as
+    many as its nargs asks (sometimes one too few or too many)."""
+    count = {None: 1, "?": 1, "*": 2, "+": 2, argparse.REMAINDER: 1}.get(action.nargs, action.nargs)
+    pool = [st.sampled_from(NUMBERS), st.sampled_from(PLAUSIBLE), st.text(st.characters(blacklist_characters="\0"),
+                                                                           max_size=8)]
+    pool += [st.sampled_from([str(c) for c in action.choices])] if action.choices else []
+    pool += [st.just(str(action.default))] if isinstance(action.default, str) else []
+    token = st.one_of(pool)
+    return st.integers(max(0, count - 1), count + 1).flatmap(lambda n: st.lists(token, min_size=n, max_size=n))
+
+
+@st.composite
+def command_line(draw):
+    """A command, its positionals, and up to four of its flags (or another command's), with values."""
+    name = draw(st.sampled_from(sorted(COMMANDS)))
+    actions = [a for a in COMMANDS[name]._actions if not isinstance(a, argparse._HelpAction)]
+    argv = [name]
+    for action in [a for a in actions if not a.option_strings]:
+        argv += draw(values(action))
+    required = [a for a in actions if a.option_strings and a.required]
+    for action in required + draw(st.lists(st.sampled_from([a for a in actions if a.option_strings]), max_size=4)):
+        argv.append(draw(st.sampled_from(action.option_strings)))
+        argv += draw(values(action))
+    return draw(st.sampled_from([argv, argv + [draw(st.sampled_from(FLAGS))]]))
+
+
+@settings(FUZZ, max_examples=200)
+@given(argv=command_line())
+def test_every_flag_of_every_command_ends_well(argv, stopped, tmp_path, monkeypatch):
+    """Every command with any of its flags (drawn from the parsers themselves) and any values: exit
+    0, 1 or 2 (or it gets past its input), no traceback, one-line errors."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "ok.toml").write_text(GOOD_SUITE)
+    code, out, err = call(argv)
+    assert_well_ended(code, err)
+
+
+def test_the_fuzz_sees_every_command_and_flag():
+    """The parsers are walked whole: every command, and the transcription settings of ocp.direct."""
+    from ocp import direct
+
+    assert {"solve", "verify", "figures", "synthesis", "bifurcation", "failure-map", "bench", "report"} <= set(COMMANDS)
+    assert {f"--{name}" for name in direct.settings()} <= set(FLAGS)
 
 
 GOOD_SUITE = 'name = "ok"\n[[cases]]\nkind = "swing-up"\nkappa = 1.0\n[[methods]]\nN = 20\n'
@@ -216,7 +279,7 @@ json_value = st.recursive(st.none() | st.booleans() | st.integers() | st.floats(
                                                                                       max_size=2), max_leaves=4)
 
 
-@settings(FUZZ, max_examples=12)
+@settings(FUZZ, max_examples=6)         # each a real report with its charts, about 2 s
 @given(key=st.sampled_from(sorted(row(1))) | st.text(max_size=4), value=json_value)
 def test_any_stored_record_ends_well_and_the_store_is_unchanged(key, value, tmp_path_factory):
     """A store whose second row has any value in any field: `ocp report` ends with a report (exit 0)

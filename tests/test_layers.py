@@ -12,8 +12,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "ocp"
 #: bottom to top; a module of layer L may import layers < L and its own package
-LAYERS = [{"core"}, {"exact", "scenes"}, {"direct", "indirect", "sampling"}, {"result"}, {"solving"}, {"synthesis"}, {"papers"},
-          {"bench"}, {"figures"}, {"cli"}]
+LAYERS = [{"core"}, {"exact", "scenes"}, {"direct", "indirect", "sampling"}, {"result"}, {"solving"}, {"synthesis"},
+          {"papers"}, {"bench"}, {"figures"}, {"commands"}, {"cli"}]
 
 
 def layer(part):

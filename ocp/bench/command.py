@@ -10,8 +10,8 @@ opened read-only.
 """
 
 import time
-from pathlib import Path
 
+from ..core.arguments import input_file, output_file, output_folder
 from ..core.errors import Fault, InputError, finite, integer
 
 MAX_JOBS = 256
@@ -58,7 +58,8 @@ def run_bench(args):
         raise InputError(f"suite {suite.name}: {len(suite.pairs())} pairs x {suite.repeats} repeats = {solves} "
                          f"solves, more than {CONFIRM_RUNS}; add --yes to run it (it can be "
                          f"interrupted and resumed)")
-    store = Store(args.store or f"ocp-bench-{suite.name}.sqlite")     # suite names stay in this folder
+    store = Store(output_file("--store", args.store) if args.store is not None
+                  else f"ocp-bench-{suite.name}.sqlite")     # suite names stay in this folder
     start = time.perf_counter()
     env = environment()
     try:
@@ -115,8 +116,8 @@ def run_report(args):
     budget = [finite("budget", b, "numbers >= 1 (multiples of the fastest answer), comma separated", 1, 1e6)
               for b in args.budget.split(",")]
     accuracy = [finite("accuracy", a, "numbers > 0, comma separated", 1e-300, 1e300) for a in args.accuracy.split(",")]
-    store = Path(args.store)
-    out = Path(args.out) if args.out else store.with_name(store.stem + "-report")
+    store = input_file("store", args.store)
+    out = output_folder("--out", args.out) if args.out is not None else store.with_name(store.stem + "-report")
     tables = report_module.report(store, out, budget, accuracy, formats)
     if args.json:
         print_json(tables)

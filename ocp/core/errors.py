@@ -8,6 +8,14 @@ A message says what was wrong and what is accepted.
 """
 
 import math
+import re
+
+#: a number as the command line and the files accept it: ASCII digits, an optional sign, point and
+#: exponent (float() alone also takes '1_000', non-ASCII digits and 'infinity')
+NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
+#: an integer: ASCII digits and an optional sign (str.isdigit() also passes '²', which int() refuses)
+INTEGER = re.compile(r"[+-]?[0-9]{1,20}")
+NOT_FINITE = re.compile(r"[+-]?(nan|inf|infinity)", re.IGNORECASE)
 
 
 class InputError(ValueError):
@@ -22,6 +30,9 @@ def finite(name, value, accepted="a finite number", low=-math.inf, high=math.inf
     """float(value), or InputError naming the argument and what it accepts (finite, in [low, high])."""
     if isinstance(value, bool):
         raise InputError(f"{name} = {value!r} is not a number; {name} accepts {accepted}")
+    text = value.strip(" ") if isinstance(value, str) else None
+    if text is not None and not (NUMBER.fullmatch(text) or NOT_FINITE.fullmatch(text)):
+        raise InputError(f"{name} = {short(value)} is not a number; {name} accepts {accepted}")
     try:
         number = float(value)
     except (TypeError, ValueError, OverflowError):
@@ -34,13 +45,13 @@ def finite(name, value, accepted="a finite number", low=-math.inf, high=math.inf
 
 
 def integer(name, value, accepted, low, high):
-    """int(value) for an integer in [low, high] (text of digits, an int, or an integral float), or
-    InputError."""
+    """int(value) for an integer in [low, high] (text of ASCII digits with an optional sign, an int,
+    or an integral float), or InputError."""
     if isinstance(value, bool):
         raise InputError(f"{name} = {value!r} is not an integer; {name} accepts {accepted}")
     if isinstance(value, str):
-        text = value.strip()
-        if len(text) > 20 or not text.lstrip("+-").isdigit():
+        text = value.strip(" ")
+        if not INTEGER.fullmatch(text):
             raise InputError(f"{name} = {short(value)} is not an integer; {name} accepts {accepted}")
         number = int(text)
     elif isinstance(value, int):

@@ -13,6 +13,13 @@ import os
 import sys
 
 
+def printable(text):
+    """`text` safe for a terminal: every character that is not printable (escape sequences and
+    other control characters, line breaks, bidirectional overrides) written as its Python escape
+    (ESC as \\x1b), the rest unchanged."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
 def plain(obj):
     """JSON-ready data: numpy values as lists and floats, non-finite numbers as null."""
     if isinstance(obj, dict):

@@ -296,7 +296,7 @@ def _run_failure_map(args):
     import numpy as np
 
     from .bench import failure_map
-    from .bench.runner import Progress, executor
+    from .core.parallel import Progress, executor
     from .bench.suite import Method
     from .core import plotting
     from .core.errors import finite, integer
@@ -356,7 +356,7 @@ def _add_bifurcation(sub):
 
 
 def _run_bifurcation(args):
-    from .bench.runner import Progress, drain, executor
+    from .core.parallel import Progress, drain, executor
     from .core.errors import integer
     from .core.output import print_json
     from .synthesis import results as store

@@ -239,6 +239,9 @@ def work_precision(records, out_dir, formats):
                         label=f"open {Outcome(name).open_marker}: {name} (another extremal)")
             ax.set_xscale("log")
             ax.set_yscale("log")
+            if not any(d["curve"] or d["another"] for d in families.values()):     # every run failed
+                ax.set(xlim=(1e-2, 1e2), ylim=(1e-12, 1.0))
+                ax.text(0.5, 0.5, "no answer on this case", transform=ax.transAxes, ha="center")
             ax.set_xlabel("total time per solve, median of repeats, cold (s)")
             ax.set_ylabel("|T - T*|   (T*: the complete search's optimum)")
             ax.set_title(f"work precision: {case}")

@@ -46,11 +46,12 @@ class SerialExecutor(cf.Executor):
         return future
 
 
-def probe_scheduler(address, timeout=CONNECT_S):
+def probe_scheduler(address, timeout=None):
     """InputError unless a tcp:// `address` accepts a connection and speaks first within `timeout`
     seconds, as a Dask scheduler does (its comm handshake is sent on accept); a server that accepts
-    and says nothing would hold Dask's client past its own timeout. Other schemes (tls, ws, ucx)
+    and says nothing would hold Dask's client past its own timeout (CONNECT_S by default). Other schemes (tls, ws, ucx)
     open with the client's message: they are left to Dask's timeout."""
+    timeout = CONNECT_S if timeout is None else timeout
     scheme, host, port = SCHEDULER.fullmatch(address).groups()
     if scheme != "tcp":
         return

@@ -25,6 +25,7 @@ the search's estimate) plus the reference's. Colours: one per method family in e
 others by name).
 """
 
+import hashlib
 import math
 import re
 import statistics
@@ -132,8 +133,8 @@ def _by(records, key):
     return out
 
 
-#: a table cell is cut to this many characters
-CELL = 1000
+#: a table cell is cut to this many characters, a label in a chart to LABEL
+CELL, LABEL = 1000, 80
 
 
 def printable(text):
@@ -155,8 +156,10 @@ def markdown(rows):
 
 
 def slug(text):
-    """`text` as a file name: lower-case letters and digits, runs of anything else one "-"."""
-    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
+    """`text` as a file name: lower-case letters and digits, runs of anything else one "-"; past 80
+    characters, cut to 71 and ended by 8 hex digits of its SHA-256 (names stay distinct and legal)."""
+    name = re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
+    return name if len(name) <= 80 else f"{name[:71]}-{hashlib.sha256(name.encode()).hexdigest()[:8]}"
 
 
 #: colours of the method families: the dark then the light shades of matplotlib's tab20
@@ -220,14 +223,14 @@ def work_precision(records, out_dir, formats):
                 d = families[family]
                 colour, marker = styles[family]
                 failed = d["failed"]
-                label = family + (f"  ({failed} failed)" if failed else "")
+                label = printable(family)[:LABEL] + (f"  ({failed} failed)" if failed else "")
                 if d["curve"]:
                     ax.plot([p[1] for p in d["curve"]], [p[2] for p in d["curve"]], "-", marker=marker, ms=4,
                             color=colour, label=label)
                 elif d["another"]:
                     ax.plot([], [], "-", color=colour, label=label)
                 else:
-                    ax.plot([], [], "x", color=colour, label=family + f"  (all {failed} failed)")
+                    ax.plot([], [], "x", color=colour, label=printable(family)[:LABEL] + f"  (all {failed} failed)")
                 for _, t, e, _, outcome in d["another"]:
                     classes.add(outcome)
                     ax.plot(t, e, Outcome(outcome).open_marker, mfc="none", ms=6, color=colour)
@@ -244,7 +247,7 @@ def work_precision(records, out_dir, formats):
                 ax.text(0.5, 0.5, "no answer on this case", transform=ax.transAxes, ha="center")
             ax.set_xlabel("total time per solve, median of repeats, cold (s)")
             ax.set_ylabel("|T - T*|   (T*: the complete search's optimum)")
-            ax.set_title(f"work precision: {case}")
+            ax.set_title(f"work precision: {printable(case)[:LABEL]}")
             ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
             paths += plotting.save(fig, Path(out_dir) / f"work_precision_{slug(case)}", formats)
     return paths
@@ -281,7 +284,7 @@ def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
                     continue
                 taus = [1.0] + sorted({x for x in r if math.isfinite(x)}) + [top]
                 rho = [sum(x <= tau for x in r) / len(r) for tau in taus]
-                ax.step(taus, rho, where="post", color=styles[family][0], label=family)
+                ax.step(taus, rho, where="post", color=styles[family][0], label=printable(family)[:LABEL])
             ax.set_xscale("log")
             ax.set_xlim(1.0, top)
             ax.set_ylim(-0.02, 1.02)
@@ -297,7 +300,7 @@ def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
             somewhere = [f"{f} ({', '.join(w)})" for f, w in never.items() if len(w) < len(panels)]
             note = "; ".join(([f"never, in any panel: {', '.join(everywhere)}"] if everywhere else [])
                              + ([f"not in: {'; '.join(somewhere)}"] if somewhere else []))
-            fig.text(0.01, -0.02, textwrap.fill(note, 160), fontsize=6, va="top")
+            fig.text(0.01, -0.02, textwrap.fill(printable(note)[:CELL], 160), fontsize=6, va="top")
         return plotting.save(fig, out_stem, formats)
 
 

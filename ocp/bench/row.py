@@ -19,6 +19,9 @@ from ..core.output import plain
 from .outcomes import GOOD, Outcome
 from .suite import SEARCH_FAMILY
 
+#: the longest text a stored field holds (labels, messages): a longer one is not a row of ocp bench
+MAX_TEXT = 10_000
+
 
 @dataclass(frozen=True, kw_only=True)
 class Extremal:
@@ -261,6 +264,8 @@ def _one(value, kind):
         if isinstance(value, bool) or not isinstance(value, int):
             raise ValueError("not an integer")
         return value
+    if kind is str and isinstance(value, str) and len(value) > MAX_TEXT:
+        raise ValueError(f"a text of {len(value)} characters, more than ocp bench writes ({MAX_TEXT})")
     if kind is bool or kind is str or kind is dict:
         if not isinstance(value, kind):
             raise ValueError(f"not a {kind.__name__}")

@@ -156,3 +156,21 @@ def test_old_outcome_labels_and_the_failure_map_indices_stay():
     assert list(outcomes.OUTCOMES)[:12] == ["ok", "build error", "time limit", "inaccurate", "local optimum",
                                             "wrong structure", "beyond horizon", "chattering", "misses target",
                                             "not converged", "solver error", "no reference"]
+
+
+def test_a_row_keeps_the_solvers_time_apart_from_the_checking_and_every_starts_message():
+    """Issue 21 (items 1-2, as new fields only): the solver's own build and NLP solve times, apart
+    from the suite's checking (the re-simulation of every start), and each start's own message.
+    The parts add up to the total (each a difference of perf_counter readings: to rounding)."""
+    from ocp.bench import measurement, suite
+    from ocp.direct.solve import DirectStatus, default_guesses
+
+    case = suite.Case("swing-up", 1.0)
+    m = measurement.measure(case, suite.Method(settings=(("N", 20),)))
+    assert m.build_time_s > 0 and m.solve_time_s > 0 and m.check_time_s > 0 and m.cpu_time_s > 0
+    assert m.build_time_s + m.solve_time_s + m.check_time_s == pytest.approx(m.total_time_s, abs=1e-9)
+    assert [s.guess for s in m.every_start] == [g.label for g in default_guesses(case.problem(), 20)]
+    assert all(s.solver_message and s.status in {d.name.lower() for d in DirectStatus} for s in m.every_start)
+    assert m.solver_message in {s.solver_message for s in m.every_start if s.status == m.status}
+    assert sum(s.solve_time_s for s in m.every_start) == pytest.approx(m.solve_time_s, rel=1e-12)
+    assert from_dict(Measurement, json.loads(json.dumps(to_dict(m)))) == m

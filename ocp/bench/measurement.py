@@ -9,6 +9,7 @@ import contextlib
 import math
 import statistics
 import sys
+import time
 
 from .. import direct
 from ..core import cache
@@ -16,7 +17,7 @@ from ..core.errors import InputError, last_line
 from ..core.output import solver_output
 from ..solving import solve
 from . import peer
-from .row import Measurement, Repeat
+from .row import Measurement, Repeat, StartRecord
 from .suite import PEERS, SEARCH
 
 
@@ -78,7 +79,11 @@ def _fields(sol, size):
                 iterations=_integer(sol.iterations), T_error=_number(sol.T_bound), n_switches=s.n_switches,
                 arc_signs=tuple(map(int, s.arc_signs)), switch_times=tuple(map(float, s.switch_times)),
                 bang_bang=bool(s.bang_bang), longest_interior_run=_integer(s.longest_interior_run),
-                resim_miss=_number(sol.resim_miss), starts=len(sol.starts), n_w=int(size[0]), n_g=int(size[1]))
+                resim_miss=_number(sol.resim_miss), starts=len(sol.starts), n_w=int(size[0]), n_g=int(size[1]),
+                every_start=tuple(StartRecord(guess=str(s.guess), status=s.status.name.lower(),
+                                              solver_message=str(s.solver_message), T=_number(s.T),
+                                              iterations=_integer(s.iterations), solve_time_s=float(s.solve_time_s))
+                                  for s in sol.starts))
 
 
 def measure(case, method, repeats=1, miss_tol=1e-6):
@@ -90,6 +95,7 @@ def measure(case, method, repeats=1, miss_tol=1e-6):
     with solver_output("devnull"):
         for _ in range(repeats):
             reset_peak_rss()
+            cpu = time.process_time()
             try:
                 sol, size = _solve_once(case, method, miss_tol)
             except InputError as err:
@@ -99,11 +105,13 @@ def measure(case, method, repeats=1, miss_tol=1e-6):
                                    message=f"solver error: {type(err).__name__}: {last_line(err)}")
             times.append(Repeat(build_time_s=getattr(sol, "build_time_s", 0.0),
                                 solve_time_s=getattr(sol, "solve_time_s", sol.total_time_s),
-                                total_time_s=sol.total_time_s, peak_rss_mib=peak_rss()[0]))
+                                total_time_s=sol.total_time_s, cpu_time_s=time.process_time() - cpu,
+                                peak_rss_mib=peak_rss()[0]))
             first = first or _fields(sol, size)
             Ts.append(sol.T)
     finite = [T for T in Ts if math.isfinite(T)]
     medians = {k: statistics.median(getattr(t, k) for t in times)
-               for k in ("build_time_s", "solve_time_s", "total_time_s", "peak_rss_mib")}
-    return Measurement(**first, **medians, T_spread=max(finite) - min(finite) if finite else None, times=tuple(times),
-                       peak_rss_scope=peak_rss()[1])
+               for k in ("build_time_s", "solve_time_s", "total_time_s", "cpu_time_s", "peak_rss_mib")}
+    checks = statistics.median(max(0.0, t.total_time_s - t.build_time_s - t.solve_time_s) for t in times)
+    return Measurement(**first, **medians, check_time_s=checks, T_spread=max(finite) - min(finite) if finite else None,
+                       times=tuple(times), peak_rss_scope=peak_rss()[1])

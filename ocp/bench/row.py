@@ -57,12 +57,27 @@ class Reference:
 
 @dataclass(frozen=True, kw_only=True)
 class Repeat:
-    """The times of one cold repeat of a pair, and the worker's peak resident set during it."""
+    """The times of one cold repeat of a pair (wall clock; `cpu_time_s`: the worker process's CPU time,
+    every thread, build, solve and checking together), and the worker's peak resident set during it."""
 
     build_time_s: float
     solve_time_s: float
     total_time_s: float
+    cpu_time_s: float | None = None
     peak_rss_mib: float | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
+class StartRecord:
+    """One initial guess of a direct solve (`ocp.direct.solve.Start`): its label, how it ended
+    (`DirectStatus` name) with the solver's own message, T, iterations and NLP solve time."""
+
+    guess: str
+    status: str
+    solver_message: str
+    T: float | None
+    iterations: int | None
+    solve_time_s: float
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -88,7 +103,11 @@ class DirectAnswer:
 @dataclass(frozen=True, kw_only=True)
 class Measurement:
     """One pair solved `repeats` times, each cold: the fields of the first solve, the median of each
-    time and of the peak resident set over the repeats (`repeats`), and the spread of T across them.
+    time and of the peak resident set over the repeats (`times`), and the spread of T across them.
+    The solver's own times (`build_time_s`, `solve_time_s`: its NLP solves of every start) are apart
+    from the suite's checking (`check_time_s` = total - build - solve: the independent re-simulation
+    of every start and the reading of its structure); `total_time_s`, which the outcome's time limit
+    reads, holds both. `every_start`: each initial guess with the solver's own message.
     `direct_status` is the `ocp.direct.DirectStatus` of a direct answer (None for the search and for
     a failure before any answer); `status` its name, or the search's, or "build_error" /
     "solver_error"."""
@@ -117,9 +136,12 @@ class Measurement:
     build_time_s: float = 0.0
     solve_time_s: float = 0.0
     total_time_s: float = 0.0
+    check_time_s: float | None = None
+    cpu_time_s: float | None = None
     peak_rss_mib: float | None = None
     peak_rss_scope: str | None = None
     times: tuple[Repeat, ...] = ()
+    every_start: tuple[StartRecord, ...] = ()
 
     def direct_answer(self):
         return DirectAnswer(status=self.direct_status, T=self.T, T_bound=self.T_error, branch=self.branch,

@@ -9,6 +9,7 @@ with a progress bar on stderr and a summary table at the end (a suite of more th
 opened read-only.
 """
 
+import sys
 import time
 from pathlib import Path
 
@@ -60,12 +61,15 @@ def run_bench(args):
                          f"solves, more than {CONFIRM_RUNS}; add --yes to run it (it can be "
                          f"interrupted and resumed)")
     start = time.perf_counter()
-    env = environment()
     store = None
     try:
         # the executor first: a scheduler that cannot be used is refused before the store is created
         with executor(jobs, args.scheduler) as (pool, workers, name), solver_output("stderr"):
             store = Store(args.store or f"ocp-bench-{suite.name}.sqlite")     # suite names stay in this folder
+            print(f"ocp bench: suite {suite.name}, {len(suite.pairs())} pairs x {suite.repeats} repeats, {name}; "
+                  f"store {report_module.printable(str(store.path))}; recording the environment", file=sys.stderr,
+                  flush=True)
+            env = environment()
             result = runner.run(suite, store, pool, workers, name, env)
     except KeyboardInterrupt:
         print(f"interrupted: {_kept(store)}; the same command resumes where it stopped")

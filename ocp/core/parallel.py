@@ -150,7 +150,7 @@ class Progress:
 
     def _tick(self):
         while not self.stopped.wait(1.0):
-            self._draw(force=not self.tty and time.perf_counter() - self.written >= self.LOG_S)
+            self._draw(force=not self.tty and time.perf_counter() - self.written >= self.LOG_S, tick=True)
 
     def end(self):
         self.stopped.set()
@@ -171,8 +171,10 @@ class Progress:
         return (f"[{'#' * filled}{'.' * (30 - filled)}] {self.done}/{self.total} {self.what}  "
                 f"{elapsed:.0f} s, {left}{running}{last}")
 
-    def _draw(self, force=False):
+    def _draw(self, force=False, tick=False):
         with self.lock:
+            if tick and (self.stopped.is_set() or self.done == self.total):
+                return
             if self.tty:
                 self.stream.write("\r" + self.line()[:160].ljust(160) + ("\n" if self.done == self.total else ""))
             elif force:

@@ -174,3 +174,19 @@ def test_a_row_keeps_the_solvers_time_apart_from_the_checking_and_every_starts_m
     assert m.solver_message in {s.solver_message for s in m.every_start if s.status == m.status}
     assert sum(s.solve_time_s for s in m.every_start) == pytest.approx(m.solve_time_s, rel=1e-12)
     assert from_dict(Measurement, json.loads(json.dumps(to_dict(m)))) == m
+
+
+def test_a_store_of_the_untyped_version_is_refused_naming_its_version(tmp_path):
+    """Schema version 2 holds typed rows; a version-1 store (untyped records) is refused in one line."""
+    import sqlite3
+
+    from ocp.bench.store import Store
+    from ocp.core.errors import InputError
+
+    Store(tmp_path / "old.sqlite").close()
+    with sqlite3.connect(tmp_path / "old.sqlite") as db:
+        db.execute("pragma user_version = 1")
+    for write in (False, True):
+        with pytest.raises(InputError, match="schema version 1; this ocp reads version 2") as caught:
+            Store(tmp_path / "old.sqlite", write=write)
+        assert "\n" not in str(caught.value)

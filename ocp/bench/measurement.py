@@ -65,11 +65,11 @@ def reset_peak_rss():
             f.write("5")
 
 
-def _fields(sol, size):
-    """The Measurement fields of one solve (a search Solution or a DirectSolution)."""
+def _fields(sol, size, search):
+    """The Measurement fields of one solve: a search Solution (`search`) or a DirectSolution."""
     common = dict(success=bool(sol.success), status=sol.status.name.lower(), message=sol.message, T=_number(sol.T),
                   branch=_integer(sol.branch))
-    if hasattr(sol, "answer"):         # the search
+    if search:
         return dict(common, T_error=_number(sol.T_error), n_switches=sol.n_switches,
                     arc_signs=tuple(map(int, sol.arc_signs)), switch_times=tuple(map(float, sol.switch_times)),
                     bang_bang=True, extremals_integrated=sol.coverage.extremals if sol.coverage else 0,
@@ -107,7 +107,7 @@ def measure(case, method, repeats=1, miss_tol=1e-6):
                                 solve_time_s=getattr(sol, "solve_time_s", sol.total_time_s),
                                 total_time_s=sol.total_time_s, cpu_time_s=time.process_time() - cpu,
                                 peak_rss_mib=peak_rss()[0]))
-            first = first or _fields(sol, size)
+            first = first or _fields(sol, size, method.transcription == SEARCH)
             Ts.append(sol.T)
     finite = [T for T in Ts if math.isfinite(T)]
     medians = {k: statistics.median(getattr(t, k) for t in times)

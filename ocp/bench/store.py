@@ -3,7 +3,7 @@
     sessions    one row per `ocp bench` invocation: suite, executor, environment (JSON), and the
                 process writing (pid, host, started, last seen, ended)
     references  one row per problem: the reference T, switch times and structure, and its source
-    results     one row per (case, method) pair: the record of `ocp.bench.runner` (JSON), the key
+    results     one row per (case, method) pair: its `ocp.bench.row.Row` (JSON), the key
                 of the suite settings it was run with (`settings_key`), and when it ran
     claims      the pairs being run now, each by one session
 

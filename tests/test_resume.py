@@ -12,7 +12,6 @@ ocp/bench/store.py. The runs use stand-ins for the reference and the solve (no s
 """
 
 import hashlib
-import json
 import random
 import socket
 import sqlite3

@@ -24,7 +24,6 @@ import math
 from collections import defaultdict
 
 from .outcomes import GOOD
-from .suite import SEARCH_FAMILY as SEARCH
 
 #: the time profile's accuracy targets and the accuracy profile's relative time budgets (module doc)
 ACCURACIES = (1e-2, 3e-3, 1e-3)

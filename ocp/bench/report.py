@@ -36,9 +36,9 @@ from ..core import plotting
 from ..core.files import folder, write_text
 from ..core.numbers import order
 from .outcomes import ANOTHER, GOOD, Outcome
-from .profiles import ACCURACIES, BUDGETS, SEARCH, error, performance_profile, profile_costs
+from .profiles import ACCURACIES, BUDGETS, error, performance_profile, profile_costs
 from .store import Store, to_csv, to_json
-
+from .suite import SEARCH_FAMILY as SEARCH
 
 
 def best_known(records):

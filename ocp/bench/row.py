@@ -6,7 +6,8 @@ naming the field, in one line). A new metric is one field of `Measurement` (with
 rows without it still read).
 
 Times in seconds, memory in MiB; T, T_error and the switch times in the problem's time unit
-(`ocp.core.model`); angles' branches as integers k of theta = pi + 2 pi k (swing-up).
+(`ocp.core.model`); a branch is the integer k of the target reached, (base + 2 pi k, 0)
+(`ocp.core.problem`).
 """
 
 import dataclasses
@@ -52,6 +53,7 @@ class Reference:
 
     @property
     def answer(self):
+        """The optimum as an Extremal (what `classify` compares a direct answer with)."""
         return Extremal(signs=self.arc_signs, branch=self.branch, T=self.T)
 
 
@@ -144,6 +146,7 @@ class Measurement:
     every_start: tuple[StartRecord, ...] = ()
 
     def direct_answer(self):
+        """The direct answer measured, as `ocp.solving.classify` reads it."""
         return DirectAnswer(status=self.direct_status, T=self.T, T_bound=self.T_error, branch=self.branch,
                             structure=Structure(arc_signs=self.arc_signs, bang_bang=bool(self.bang_bang)))
 

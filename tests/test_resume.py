@@ -117,6 +117,7 @@ def test_a_hot_journal_is_reported_untouched_and_resumed(tiny, tmp_path):
     result = bench(tiny, store)
     assert result.returncode == 0, result.stderr[-2000:]
     assert "12 runs (3 now, 9 already stored)" in result.stdout and not journal.exists()
+    assert result.stderr.startswith("ocp bench: suite tiny, 12 pairs")     # said at once (issue 24)
     assert sorted(rows(store)) == sorted(set(rows(store))) and len(rows(store)) == 12
 
 

@@ -4,12 +4,16 @@ the Dask executor on a loopback cluster, the peer's skip note, and one-line erro
 import json
 import math
 import sqlite3
+from dataclasses import replace
 
 import pytest
 
 from ocp import cli
-from ocp.bench import peer, report, runner, suite
+from ocp.bench import measurement, peer, report, runner, scoring, suite
+from ocp.bench.reference import reference
+from ocp.bench.row import Extremal, Measurement, Reference, Row, Timing
 from ocp.bench.store import Store
+from ocp.core.parallel import executor
 
 TINY = """
 name = "tiny"
@@ -55,18 +59,18 @@ def test_bench_stores_every_row_resumes_and_reports(tiny, tmp_path, capsys):
     code, out = bench([tiny, "--store", store, "--jobs", "2"], capsys)
     assert code == 0 and out["run_now"] == 6 and out["resumed"] == 0
     assert out["environment"]["cores"] >= 1 and out["environment"]["packages"]["casadi"]
-    rows = {(r["case_label"], r["label"]): r for r in Store(store).results()}
+    rows = {(r.case_label, r.label): r for r in Store(store).results()}
     ok = rows[("swing-up kappa=1", "MS rk4 M=4 / ipopt N=20")]
-    assert ok["outcome"] == "ok" and ok["ref_source"].startswith("one-switch swing-up (Finch 2015)")
-    assert 0 < abs(ok["T_minus_ref"]) <= ok["T_error"] and ok["timing"]["parallel"]
-    assert ok["n_w"] > 0 and ok["build_time_s"] > 0 and len(ok["switch_time_errors"]) == 1
-    assert ok["peak_rss_mib"] > 10 and ok["peak_rss_scope"] == "this run"
-    assert rows[("swing-up kappa=1", "DC radau3 / fatrop N=20")]["outcome"] == "build error"
-    assert rows[("swing-up kappa=1", "MS rk4 M=4 / feasiblesqpmethod N=20")]["outcome"] == "not converged"
-    assert rows[("swing-up kappa=1 guess#3", "MS rk4 M=4 / ipopt N=20")]["success"]
-    failed = [r for r in rows.values() if r["outcome"] != "ok"]
-    assert failed and all(r["message"] for r in failed)          # every failure row carries its reason
-    assert all(r["solver_message"] for r in failed if r["status"] != "build_error")
+    assert ok.outcome == "ok" and ok.ref_source.startswith("one-switch swing-up (Finch 2015)")
+    assert 0 < abs(ok.T_minus_ref) <= ok.T_error and ok.timing.parallel
+    assert ok.n_w > 0 and ok.build_time_s > 0 and len(ok.switch_time_errors) == 1
+    assert ok.peak_rss_mib > 10 and ok.peak_rss_scope == "this run"
+    assert rows[("swing-up kappa=1", "DC radau3 / fatrop N=20")].outcome == "build error"
+    assert rows[("swing-up kappa=1", "MS rk4 M=4 / feasiblesqpmethod N=20")].outcome == "not converged"
+    assert rows[("swing-up kappa=1 guess#3", "MS rk4 M=4 / ipopt N=20")].success
+    failed = [r for r in rows.values() if r.outcome != "ok"]
+    assert failed and all(r.message for r in failed)          # every failure row carries its reason
+    assert all(r.solver_message for r in failed if r.status != "build_error")
 
     with sqlite3.connect(store) as db:       # as if interrupted before the last row
         db.execute("delete from results where rowid = (select max(rowid) from results)")
@@ -89,9 +93,9 @@ def test_dask_cluster_runs_the_same_suite(tiny, tmp_path):
     store = Store(tmp_path / "dask.sqlite")
     with distributed.LocalCluster(host="127.0.0.1", protocol="tcp://", processes=False, n_workers=1,
                                   threads_per_worker=1, dashboard_address=":0") as cluster:
-        with runner.executor(scheduler=cluster.scheduler_address) as (pool, workers, name):
+        with executor(scheduler=cluster.scheduler_address) as (pool, workers, name):
             out = runner.run(s, store, pool, workers, name, {})
-    assert name.startswith("dask tcp://127.0.0.1") and [r["outcome"] for r in out["records"]] == ["ok"]
+    assert name.startswith("dask tcp://127.0.0.1") and [r.outcome for r in out["records"]] == ["ok"]
 
 
 def test_missing_peer_is_skipped_with_a_note(tmp_path, monkeypatch, capsys):
@@ -110,9 +114,9 @@ def test_a_fair_configuration_reaches_the_solver():
     converges, and the row records the configuration and the exact options."""
     case = suite.Case("swing-up", 1.0)
     default, fair = (suite.Method(settings=(("N", 20),), solver="blocksqp", configuration=c) for c in ("default", "fair"))
-    assert "ma27" in runner.measure(case, default)["solver_message"]
-    row = runner.measure(case, fair)
-    assert row["success"] and "ma27" not in row["solver_message"]
+    assert "ma27" in measurement.measure(case, default).solver_message
+    row = measurement.measure(case, fair)
+    assert row.success and "ma27" not in row.solver_message
     assert fair.to_dict()["options"]["linsol"] == "ldl" and fair.to_dict()["configuration"] == "fair"
     assert fair.key != default.key and fair.label == "MS rk4 M=4 / blocksqp [fair] N=20"
     assert "configuration" not in default.to_dict() and default.to_dict()["options"] == {}   # keys as before
@@ -123,10 +127,11 @@ def test_peak_memory_is_of_the_run():
     """The high-water mark is reset before each run: a large array freed before it does not count."""
     import numpy as np
     big = np.ones(2**25)                  # 256 MiB
-    high = runner.peak_rss()[0]
+    high = measurement.peak_rss()[0]
     del big
-    runner.reset_peak_rss()
-    assert runner.peak_rss() == (pytest.approx(runner.peak_rss()[0]), "this run") and runner.peak_rss()[0] < high - 200
+    measurement.reset_peak_rss()
+    assert measurement.peak_rss() == (pytest.approx(measurement.peak_rss()[0]), "this run") and \
+        measurement.peak_rss()[0] < high - 200
 
 
 def test_rockit_free_grid_misses_the_target():
@@ -135,30 +140,33 @@ def test_rockit_free_grid_misses_the_target():
     pytest.importorskip("rockit")
     case = suite.Case("swing-up", 1.0, guess=1)
     method = suite.Method("rockit-freegrid", (("M", 4), ("N", 10)))
-    row = runner.score(runner.measure(case, method), runner.reference(case), case, math.inf)
+    m = measurement.measure(case, method)
+    row = scoring.score(m, reference(case), math.inf)
     assert method.label == "rockit MS rk M=4 free grid / ipopt N=10"
-    assert row["outcome"] == "misses target" and row["solver_message"] == "Solve_Succeeded" and row["resim_miss"] > 1e-4
+    assert row.outcome == "misses target" and m.solver_message == "Solve_Succeeded" and m.resim_miss > 1e-4
 
 
 def test_outcome_against_the_search_reference():
     """A direct row is classified against the search's optimum, its ties (the mirror image) and the
     other extremals found (`ocp.solving.classify`)."""
-    case = suite.Case("swing-up", 1.0)
-    tie = {"arc_signs": [-1, 1], "branch": -1, "T": 4.0}
-    other = {"arc_signs": [1, -1, 1], "branch": 0, "T": 5.0}
-    ref = {"T": 4.0, "T_error": 1e-14, "source": "test", "arc_signs": [1, -1], "switch_times": [3.0], "branch": 0,
-           "ties": [tie], "extremals": [dict(tie), other], "horizon": 8.0}
-    run = {"status": "verified", "direct_status": 0, "success": True, "bang_bang": True, "T": 4.001,
-           "T_error": 0.002, "arc_signs": [-1, 1], "branch": -1, "switch_times": [3.001], "total_time_s": 1.0}
-    assert runner.score(run, ref, case, 60)["outcome"] == "ok"                 # the mirror image ties
-    assert runner.score(dict(run, branch=0), ref, case, 60)["outcome"] == "wrong structure"
-    assert runner.score(dict(run, T=5.0, branch=0, arc_signs=[1, -1, 1]), ref, case, 60)["outcome"] == "local optimum"
-    assert runner.score(dict(run, T=4.01), ref, case, 60)["outcome"] == "inaccurate"
-    assert runner.score(dict(run, T=9.0, branch=0, arc_signs=[1, -1, 1, -1]), ref, case, 60)["outcome"] == \
+    tie = Extremal(signs=(-1, 1), branch=-1, T=4.0)
+    other = Extremal(signs=(1, -1, 1), branch=0, T=5.0)
+    ref = Reference(problem="p", T=4.0, T_error=1e-14, source="test", arc_signs=(1, -1), switch_times=(3.0,), branch=0,
+                    ties=(tie,), extremals=(tie, other), horizon=8.0)
+    run = Measurement(status="verified", direct_status=0, success=True, bang_bang=True, T=4.001, T_error=0.002,
+                      arc_signs=(-1, 1), branch=-1, switch_times=(3.001,), total_time_s=1.0)
+    score = scoring.score
+    assert score(run, ref, 60).outcome == "ok"                 # the mirror image ties
+    assert score(replace(run, branch=0), ref, 60).outcome == "wrong structure"
+    assert score(replace(run, T=5.0, branch=0, arc_signs=(1, -1, 1)), ref, 60).outcome == "local optimum"
+    assert score(replace(run, T=4.01), ref, 60).outcome == "inaccurate"
+    assert score(replace(run, T=9.0, branch=0, arc_signs=(1, -1, 1, -1)), ref, 60).outcome == \
         "beyond horizon"
-    assert runner.score(run, ref, case, 0.5)["outcome"] == "time limit"
-    assert runner.score(dict(run, success=False, direct_status=1), ref, case, 60)["outcome"] == "misses target"
-    best = report.best_known([dict(runner.score(run, ref, case, 60), problem="p", family="MS")])
+    assert score(run, ref, 0.5).outcome == "time limit"
+    assert score(replace(run, success=False, direct_status=1), ref, 60).outcome == "misses target"
+    row = Row.of(run, score(run, ref, 60), case="c", case_label="c", problem="p", family="MS", label="MS N=20",
+                 guess="default", N=20, timing=Timing(note="timed alone"))
+    best = report.best_known([row])
     assert best == {"p": 4.0}
 
 

@@ -71,7 +71,7 @@ def stopped(monkeypatch):
     """Every command stopped where its work would begin."""
     monkeypatch.setattr(solving, "solve", stop)
     monkeypatch.setattr(runner, "run", stop)
-    monkeypatch.setattr(runner, "executor", stop)               # no worker process runs an unpatched command
+    monkeypatch.setattr("ocp.core.parallel.executor", stop)    # no worker process runs an unpatched command
     monkeypatch.setattr("ocp.synthesis.field.synthesize", stop)
     monkeypatch.setattr("ocp.direct.nlp.build", lambda *args, **kwargs: None)    # failure-map's trial build
     monkeypatch.setattr("ocp.bench.environment.environment", dict)

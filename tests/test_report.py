@@ -4,16 +4,20 @@ when the machine is faster, one colour per family in every chart, local optima l
 and the reached-optimum rate that does not judge a method stating no accuracy."""
 
 import math
+from dataclasses import replace
 
 import pytest
 
-from ocp.bench import report
+from ocp.bench import profiles, report
+from ocp.bench.row import Row, from_dict
 
 
 def run(case, family, N, time, error, outcome="ok", T_error=1e-3):
-    return {"case": case, "case_label": case, "problem": case, "family": family, "N": N, "guess": "default",
-            "outcome": outcome, "total_time_s": time, "T_minus_ref": error, "T_ref_error": 1e-14, "T": 4.0 + error,
-            "T_ref": 4.0, "T_error": T_error, "success": outcome in ("ok", "inaccurate")}
+    return from_dict(Row, {"case": case, "case_label": case, "problem": case, "family": family, "N": N,
+                           "guess": "default", "outcome": outcome, "total_time_s": time, "T_minus_ref": error,
+                           "T_ref_error": 1e-14, "T": 4.0 + error, "T_ref": 4.0, "T_error": T_error,
+                           "success": outcome in ("ok", "inaccurate"), "status": "verified",
+                           "label": f"{family} N={N}", "timing": {"note": "timed alone"}})
 
 
 RECORDS = [
@@ -28,14 +32,14 @@ RECORDS = [
 def test_ratios_are_relative_to_the_best_family_on_each_case():
     """Time to reach 2e-3: case a: fast 0.2 s, slow 0.8 s; case b: fast never (its N = 50 answer is
     a local optimum), slow 0.5 s. Ratios: fast (1, inf), slow (4, 1)."""
-    costs = report.profile_costs(RECORDS, accuracies=(2e-3,), budgets=())[("time", 2e-3)]
+    costs = profiles.profile_costs(RECORDS, accuracies=(2e-3,), budgets=())[("time", 2e-3)]
     assert costs["fast"] == {"a": 0.2, "b": math.inf} and costs["slow"] == {"a": 0.8, "b": 0.5}
-    ratios = report.performance_profile({f: costs[f] for f in ("fast", "slow")})
+    ratios = profiles.performance_profile({f: costs[f] for f in ("fast", "slow")})
     assert ratios == {"fast": [1.0, math.inf], "slow": [1.0, 4.0]}
 
 
 def test_a_case_nobody_solves_ranks_nobody():
-    ratios = report.performance_profile({"x": {"a": 1.0, "b": math.inf}, "y": {"a": 2.0, "b": math.inf}})
+    ratios = profiles.performance_profile({"x": {"a": 1.0, "b": math.inf}, "y": {"a": 2.0, "b": math.inf}})
     assert ratios == {"x": [1.0], "y": [2.0]}
 
 
@@ -50,7 +54,7 @@ def test_the_accuracy_profile_uses_a_budget_relative_to_the_fastest_answer():
 
 
 def test_the_profiles_do_not_depend_on_the_machines_speed():
-    faster = [dict(r, total_time_s=r["total_time_s"] / 7.3) for r in RECORDS]
+    faster = [replace(r, total_time_s=r.total_time_s / 7.3) for r in RECORDS]
     for kind in ("time", "error"):
         assert report.profiles(faster)[kind] == report.profiles(RECORDS)[kind]
 

@@ -26,8 +26,10 @@ import pytest
 
 from ocp import cli
 from ocp.bench import runner, store as store_module, suite
+from ocp.bench.row import Measurement, Reference
 from ocp.bench.store import Store
 from ocp.core import files
+from ocp.core.parallel import SerialExecutor
 from ocp.core.errors import Fault
 
 SUITE = """
@@ -41,16 +43,16 @@ N = [20, 30]
 
 
 def fake_reference(case):
-    return {"problem": case.problem_key, "T": 4.0, "T_error": 1e-12, "source": "a stand-in", "arc_signs": [1, -1],
-            "switch_times": [1.0]}
+    return Reference(problem=case.problem_key, T=4.0, T_error=1e-12, source="a stand-in", arc_signs=(1, -1),
+                     switch_times=(1.0,))
 
 
 def fake_measure(case, method, repeats=1, miss_tol=1e-6):
-    """N = 20: a record as the search writes it, on the reference; otherwise a build error."""
+    """N = 20: a Measurement as the search gives it, on the reference; otherwise a build error."""
     if method.N != 20:
-        return {"success": False, "status": "build_error", "message": "build error: a stand-in", "times": []}
-    return {"success": True, "status": "optimal", "message": "", "T": 4.0 + 1e-13, "T_error": 1e-12,
-            "direct_status": None, "arc_signs": [1, -1], "switch_times": [1.0], "total_time_s": 0.01, "times": []}
+        return Measurement(success=False, status="build_error", message="build error: a stand-in")
+    return Measurement(success=True, status="optimal", T=4.0 + 1e-13, T_error=1e-12, arc_signs=(1, -1),
+                       switch_times=(1.0,), total_time_s=0.01)
 
 
 @pytest.fixture
@@ -72,7 +74,7 @@ def run(the_suite, path):
     """One `ocp bench` session, serial, in this process: its result."""
     db = Store(path)
     try:
-        return runner.run(the_suite, db, runner.SerialExecutor(), 1, "serial", {"test": True})
+        return runner.run(the_suite, db, SerialExecutor(), 1, "serial", {"test": True})
     finally:
         db.close()
 
@@ -105,7 +107,8 @@ def foreign_sqlite(path):
 def test_report_never_changes_its_input(kind, tmp_path, stored, capsys):
     """Issue 11: `ocp report` opened its input read-write (a foreign SQLite file gained three tables, an
     empty file became a database). Now the input's bytes are the same after the report, and a file
-    that is not an ocp store is refused in one line (exit 1), nothing written."""
+    that is not an ocp store is refused in one line, nothing written: bad input, exit 2 (issue 24;
+    exit 1 before)."""
     path = tmp_path / "input.sqlite"
     if kind == "valid store":
         path = stored
@@ -124,16 +127,17 @@ def test_report_never_changes_its_input(kind, tmp_path, stored, capsys):
     if kind == "valid store":
         assert code == 0 and (out / "summary.md").is_file()
     else:
-        assert code == 1 and one_line(err, "failed:") and not out.exists()
+        assert code == 2 and one_line(err, "error:") and not out.exists()
         assert "not an ocp results store" in err or "schema version 99" in err or "not a database" in err
 
 
 def test_bench_refuses_a_foreign_store_untouched(tmp_path, tiny, capsys):
-    """Issue 11: `ocp bench --store` on a file of another program leaves it as it was (exit 1)."""
+    """Issue 11: `ocp bench --store` on a file of another program leaves it as it was (bad input,
+    exit 2 as for `ocp report`, issue 24; exit 1 before)."""
     path = foreign_sqlite(tmp_path / "other.db")
     before = digest(path)
-    assert cli.main(["bench", str(tiny), "--store", str(path)]) == 1
-    assert one_line(capsys.readouterr().err, "failed:") and digest(path) == before
+    assert cli.main(["bench", str(tiny), "--store", str(path)]) == 2
+    assert one_line(capsys.readouterr().err, "error:") and digest(path) == before
 
 
 def corrupt(path, how):
@@ -251,12 +255,12 @@ def test_claims_of_a_live_writer_are_left_and_a_dead_ones_taken(tiny, tmp_path, 
     result = run(the_suite, path)
     assert len(result["records"]) == 3 and result["claimed_elsewhere"] == 1
     assert any("another ocp bench" in note for note in result["notes"])
-    assert all(r["timing"]["concurrent_sessions"] == [live] and "another ocp bench" in r["timing"]["note"]
+    assert all(r.timing.concurrent_sessions == (live,) and "another ocp bench" in r.timing.note
                for r in result["records"])
     db.end_session(live)
     again = run(the_suite, path)
     assert len(again["records"]) == 1 and again["resumed"] == 3 and again["claimed_elsewhere"] == 0
-    assert again["records"][0]["timing"]["note"] == "timed alone"
+    assert again["records"][0].timing.note == "timed alone"
     db.close()
 
 
@@ -294,7 +298,7 @@ def test_a_changed_setting_runs_the_pair_again(tiny, tmp_path, fake):
         fixed = suite.Suite(**{**first.__dict__, **change})
         result = run(fixed, path)
         assert (len(result["records"]), result["resumed"]) == (4, 0)
-        assert all(r[k] == v for r in result["records"] for k, v in change.items())
+        assert all(getattr(r, k) == v for r in result["records"] for k, v in change.items())
         assert run(fixed, path)["resumed"] == 4
     db = Store(path, write=False)
     assert len(db.results()) == 4
@@ -319,9 +323,9 @@ def test_workers_die_with_a_killed_parent_and_its_claims_are_recovered(tiny, tmp
     """Issue 11: after SIGKILL of a `--jobs 2` parent its workers ran on as orphans. Now they end with
     it, and the next run takes over the pairs it had claimed."""
     path = tmp_path / "killed.sqlite"
-    script = ("import sys, time\nfrom ocp import cli\nfrom ocp.bench import runner\n"
+    script = ("import sys, time\nfrom ocp import cli\nfrom ocp.bench import runner\nfrom ocp.bench.row import Reference\n"
               "def reference(case):\n"
-              "    return {'problem': case.problem_key, 'T': None, 'T_error': None, 'source': 'none'}\n"
+              "    return Reference(problem=case.problem_key, T=None, T_error=None, source='none')\n"
               "def measure(*args):\n"
               "    time.sleep(600)\n"
               "runner.reference, runner.measure = reference, measure\n"

@@ -9,6 +9,7 @@ with a progress bar on stderr and a summary table at the end (a suite of more th
 opened read-only.
 """
 
+import sys
 import time
 
 from ..core.arguments import input_file, output_file, output_folder
@@ -49,7 +50,8 @@ def run_bench(args):
     from . import report as report_module, runner, suite as suite_module
     from .environment import environment
     from .store import Store
-    from ..core.output import print_json, solver_output
+    from ..core.output import print_json, printable, solver_output
+    from ..core.parallel import executor
 
     suite = suite_module.load(args.suite)
     jobs = integer("jobs", args.jobs, f"an integer from 1 to {MAX_JOBS} (local worker processes)", 1, MAX_JOBS)
@@ -58,20 +60,27 @@ def run_bench(args):
         raise InputError(f"suite {suite.name}: {len(suite.pairs())} pairs x {suite.repeats} repeats = {solves} "
                          f"solves, more than {CONFIRM_RUNS}; add --yes to run it (it can be "
                          f"interrupted and resumed)")
-    store = Store(output_file("--store", args.store) if args.store is not None
-                  else f"ocp-bench-{suite.name}.sqlite")     # suite names stay in this folder
+    store_path = output_file("--store", args.store) if args.store is not None else f"ocp-bench-{suite.name}.sqlite"
     start = time.perf_counter()
-    env = environment()
+    store = None
     try:
-        with runner.executor(jobs, args.scheduler) as (pool, workers, name), solver_output("stderr"):
+        # the executor first: a scheduler that cannot be used is refused before the store is created
+        with executor(jobs, args.scheduler) as (pool, workers, name), solver_output("stderr"):
+            store = Store(store_path)                    # a suite's name stays in this folder
+            print(f"ocp bench: suite {suite.name}, {len(suite.pairs())} pairs x {suite.repeats} repeats, {name}; "
+                  f"store {printable(store.path)}; recording the environment", file=sys.stderr,
+                  flush=True)
+            env = environment()
             result = runner.run(suite, store, pool, workers, name, env)
     except KeyboardInterrupt:
         print(f"interrupted: {_kept(store)}; the same command resumes where it stopped")
         return 130
     except Fault as err:
+        if store is None:
+            raise
         raise Fault(f"{err}; {_kept(store)}; the same command resumes where it stopped") from None
     keys = {(c.key, m.key) for c, m in suite.pairs()}
-    records = [r for r in store.results() if (r["case"], r["method"]) in keys]
+    records = [r for r in store.results() if (r.case, r.method) in keys]
     store.close()
     best = report_module.best_known(records)
     summary = {
@@ -89,7 +98,7 @@ def run_bench(args):
         print(f"note: {note}")
     print(f"suite {suite.name}: {summary['pairs']} runs ({summary['run_now']} now, {summary['resumed']} already "
           f"stored) in {summary['elapsed_s']:.0f} s, {result['executor']}; store {store.path}")
-    print(f"outcomes: {', '.join(f'{k} {v}' for k, v in summary['outcomes'].items())}\n")
+    print(printable(f"outcomes: {', '.join(f'{k} {v}' for k, v in summary['outcomes'].items())}") + "\n")
     print(report_module.markdown(summary["methods"]))
     print(f"charts and failure table: ocp report {store.path}")
     return 0
@@ -97,6 +106,8 @@ def run_bench(args):
 
 def _kept(store):
     """How many finished rows the store keeps (closing it), in words."""
+    if store is None:
+        return "no store was opened"
     try:
         rows = len(store.done())
     except Fault:

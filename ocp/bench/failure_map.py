@@ -2,9 +2,10 @@
 
 For a method (`ocp.bench.suite.Method`: transcription, N, solver, configuration) and a grid of
 starts (theta, omega) at one kappa, or a sweep of kappa at one start, every cell is a bench row:
-the reference of its case from the complete search of extremals (`runner.reference`), one cold
-direct solve (`runner.measure`) and its outcome class against the reference (`runner.score`, the
-classes of `runner.OUTCOMES`; no time limit). Nothing here classifies again.
+the reference of its case from the complete search of extremals (`ocp.bench.reference`), one cold
+direct solve (`ocp.bench.measurement`) and its outcome class against the reference
+(`ocp.bench.scoring`, the classes of `ocp.bench.outcomes`; no time limit). Nothing here
+classifies again.
 
     grid(kind, kappa, method, window, ...)     a FailureMap over a Window (`ocp.synthesis.field`)
     sweep(kind, kappas, x0, method, ...)       a FailureMap over kappa at one start
@@ -20,12 +21,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.files import replacing
+from ..core.parallel import Progress, SerialExecutor, drain
 from ..direct import MISS_TOL
-from . import runner
+from .measurement import measure
+from .outcomes import OUTCOMES
+from .reference import reference
 from .report import reason, slug
+from .scoring import score
 from .suite import Case
-
-OUTCOMES = runner.OUTCOMES
 
 
 @dataclass(frozen=True)
@@ -48,24 +51,25 @@ class FailureMap:
     time_s: float
 
     def counts(self):
-        """{outcome: cells}, in the order of OUTCOMES."""
+        """{Outcome: cells}, in the order of OUTCOMES."""
         found = np.bincount(self.outcome.ravel(), minlength=len(OUTCOMES))
-        return {name: int(n) for name, n in zip(OUTCOMES, found) if n}
+        return {outcome: int(n) for outcome, n in zip(OUTCOMES, found) if n}
 
 
 def cell(case, method, miss_tol=MISS_TOL):
     """(outcome, T, T_ref, reason) of one case: the bench's reference, measure and score, and the
     failure table's reason (`report.reason`)."""
-    row = runner.score(runner.measure(case, method, 1, miss_tol), runner.reference(case), case, math.inf)
-    return row["outcome"], row.get("T"), row["T_ref"], "" if row["outcome"] == "ok" else reason(row)
+    m = measure(case, method, 1, miss_tol)
+    s = score(m, reference(case), math.inf)
+    return str(s.outcome), m.T, s.T_ref, "" if s.outcome.success else reason(m, s.outcome)
 
 
 def _run(kind, kappa, x0, axes, method, cases, pool, workers, progress):
     """The cells of `cases` (in the order of the grid of `axes`) through `pool` (default: this
     process), as a FailureMap."""
     start = time.perf_counter()
-    pool = pool or runner.SerialExecutor()
-    progress = progress or runner.Progress(len(cases), "cells", io.StringIO())
+    pool = pool or SerialExecutor()
+    progress = progress or Progress(len(cases), "cells", io.StringIO())
     outcome = np.zeros(len(cases), dtype=np.int64)
     T, T_ref = np.full(len(cases), np.nan), np.full(len(cases), np.nan)
     reasons = np.full(len(cases), "", dtype=object)
@@ -75,7 +79,8 @@ def _run(kind, kappa, x0, axes, method, cases, pool, workers, progress):
         outcome[i] = OUTCOMES.index(name)
         return f"{cases[i].label}: {name}"
 
-    runner.drain(pool, workers, [(cell, (c, method), i) for i, c in enumerate(cases)], handle, progress)
+    drain(pool, workers, [(cell, (c, method), i) for i, c in enumerate(cases)], handle, progress,
+          label=lambda i: cases[i].label)
     shape = tuple(len(v) for v in axes.values())
     return FailureMap(kind, method.to_dict(), method.label, kappa, x0, axes, outcome.reshape(shape), T.reshape(shape),
                       T_ref.reshape(shape), reasons.astype(str).reshape(shape), time.perf_counter() - start)
@@ -104,7 +109,7 @@ def name(fmap):
 def save(fmap, path):
     """`fmap` as a compressed numpy file (arrays, and the settings as JSON in `meta`), written whole."""
     meta = {"kind": fmap.kind, "method": fmap.method, "label": fmap.label, "kappa": fmap.kappa,
-            "x0": None if fmap.x0 is None else list(fmap.x0), "outcomes": list(OUTCOMES), "time_s": fmap.time_s}
+            "x0": None if fmap.x0 is None else list(fmap.x0), "outcomes": list(map(str, OUTCOMES)), "time_s": fmap.time_s}
     with replacing(path, "wb") as f:
         np.savez_compressed(f, outcome=fmap.outcome, T=fmap.T, T_ref=fmap.T_ref, reason=fmap.reason,
                             meta=np.array(json.dumps(meta)), **{f"axis_{k}": v for k, v in fmap.axes.items()})

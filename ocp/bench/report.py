@@ -4,30 +4,18 @@
                         reaching the best known optimum (all guesses; random guesses alone; runs
                         of a method that states no accuracy cannot be judged and are counted
                         apart), median |T - T_ref|, median total time and median peak
-                        resident memory of the worker during a run (`runner.peak_rss`)
-    failure table       per family and outcome class (`ocp.bench.runner.OUTCOMES`), with the
+                        resident memory of the worker during a run (`measurement.peak_rss`)
+    failure table       per family and outcome class (`ocp.bench.outcomes.Outcome`), with the
                         cases and a status; every failing row is counted, none is left out
     work precision      per case (default guess): |T - T_ref| against the median total time, one
                         curve per family as N varies, each point labelled with its N; answers of
                         another extremal than the optimum (local optimum, wrong structure, beyond
                         horizon) are open markers labelled with their class; failed runs are not
                         points (they are counted in the legend and listed in the failure table)
-    profiles            Dolan-More performance profiles across cases (below)
+    profiles            Dolan-More performance profiles across cases
 
-Performance profiles (Dolan and More 2002). For a cost c(p, s) of family s on case p, the ratio
-r(p, s) = c(p, s) / min over s' of c(p, s'), and the profile rho_s(tau) = the share of cases with
-r(p, s) <= tau: rho_s(1) is how often s is the best, rho_s(tau -> inf) how often it gets there at
-all. Both costs are relative to the best family on the case, so the machine's speed cancels:
-
-    time profile        c = the least total time of a run of s with the optimal structure and
-                        |T - T_ref| <= eps (any N), one panel per accuracy target eps (default
-                        1e-2, 3e-3, 1e-3: the range the direct methods reach at N <= 100; below it
-                        only the search remains, and the profile degenerates to it)
-    accuracy profile    c = the least |T - T_ref| of a run of s with the optimal structure within a
-                        time budget beta * t_min(p), t_min(p) the fastest such run of any family
-                        on the case (the time to reach an answer, relative to the fastest method),
-                        one panel per relative budget beta (default 2, 10); an error below the
-                        reference's own accuracy counts as that accuracy
+Performance profiles (Dolan and More 2002): their costs and ratios in `ocp.bench.profiles`, drawn
+here.
 
 The best known optimum of a problem is its reference T (the complete search's optimum, or Finch's
 formula where one applies); a run reaches it when its outcome is "ok" or "inaccurate" (the optimal
@@ -37,6 +25,7 @@ the search's estimate) plus the reference's. Colours: one per method family in e
 others by name).
 """
 
+import hashlib
 import math
 import re
 import statistics
@@ -46,32 +35,34 @@ from pathlib import Path
 from ..core import plotting
 from ..core.files import folder, write_text
 from ..core.numbers import order
+from ..core.output import printable
+from .outcomes import ANOTHER, GOOD, Outcome
+from .profiles import ACCURACIES, BUDGETS, error, performance_profile, profile_costs
 from .store import Store, to_csv, to_json
-
-GOOD = ("ok", "inaccurate")     # converged to the right structure (accurate or not)
+from .suite import SEARCH_FAMILY as SEARCH
 
 
 def best_known(records):
     """{problem: best known T}: the reference, or an ok run of the extremal search below it."""
     best = {}
     for r in records:
-        candidates = [r["T_ref"]] if r["T_ref"] is not None else []
-        if r["family"] == "extremal search" and r["outcome"] == "ok":
-            candidates.append(r["T"])
+        candidates = [r.T_ref] if r.T_ref is not None else []
+        if r.family == SEARCH and r.outcome == Outcome.OK:
+            candidates.append(r.T)
         if candidates:
-            best[r["problem"]] = min(candidates + [best.get(r["problem"], math.inf)])
+            best[r.problem] = min(candidates + [best.get(r.problem, math.inf)])
     return best
 
 
 def reached(r, best):
     """Whether run r reached the best known optimum of its problem (module doc): True, False, or
     None where it cannot be judged (the optimal structure, but the method states no accuracy)."""
-    T_best = best.get(r["problem"])
-    if T_best is None or r["outcome"] not in GOOD:
+    T_best = best.get(r.problem)
+    if T_best is None or r.outcome not in GOOD:
         return False
-    if r["T_error"] is None:
+    if r.T_error is None:
         return None
-    return r["T"] - T_best <= r["T_error"] + (r["T_ref_error"] or 0.0)
+    return r.T - T_best <= r.T_error + (r.T_ref_error or 0.0)
 
 
 def _rate(flags):
@@ -94,17 +85,17 @@ def method_table(records, best):
     """Rows (dicts) of the method table, families in first-seen order."""
     rows = []
     for family, runs in _by(records, "family").items():
-        random = [r for r in runs if r["guess"] != "default"]
+        random = [r for r in runs if r.guess != "default"]
         rows.append({
             "method": family,
             "runs": len(runs),
-            "success": _rate(r["success"] for r in runs),
-            "right structure": _rate(r["outcome"] in GOOD for r in runs),
+            "success": _rate(r.success for r in runs),
+            "right structure": _rate(r.outcome in GOOD for r in runs),
             "reached optimum": _rate(reached(r, best) for r in runs),
             "reached optimum (random guesses)": _rate(reached(r, best) for r in random),
-            "median |T - T_ref|": _median([abs(r["T_minus_ref"]) for r in runs if r["outcome"] in GOOD], ".1e"),
-            "median total time (s)": _median([r["total_time_s"] for r in runs if r["outcome"] != "build error"], ".3f"),
-            "median peak memory (MiB)": _median([r.get("peak_rss_mib") for r in runs], ".0f"),
+            "median |T - T_ref|": _median([abs(r.T_minus_ref) for r in runs if r.outcome in GOOD], ".1e"),
+            "median total time (s)": _median([r.total_time_s for r in runs if r.outcome != Outcome.BUILD_ERROR], ".3f"),
+            "median peak memory (MiB)": _median([r.peak_rss_mib for r in runs], ".0f"),
         })
     return rows
 
@@ -113,61 +104,63 @@ def failure_table(records):
     """One row per (family, outcome) of the failing runs: count, the N values, cases, one status."""
     groups = defaultdict(list)
     for r in records:
-        if r["outcome"] != "ok":
-            groups[(r["family"], r["outcome"])].append(r)
+        if not r.outcome.success:
+            groups[(r.family, r.outcome)].append(r)
     return [{"method": family, "outcome": outcome, "runs": len(runs),
-             "N": " ".join(str(n) for n in sorted({r["N"] for r in runs})),
-             "cases": "; ".join(dict.fromkeys(r["case_label"] for r in runs)),
-             "status (first)": reason(runs[0])[:160]}
+             "N": " ".join(str(n) for n in sorted({r.N for r in runs})),
+             "cases": "; ".join(dict.fromkeys(r.case_label for r in runs)),
+             "status (first)": reason(runs[0], outcome)[:160]}
             for (family, outcome), runs in groups.items()]
 
 
-def reason(r):
-    """How a run ended, in words: the solver's own message and the suite's (with the re-simulated
-    miss when the control misses the target)."""
-    parts = [r.get("solver_message"), r.get("message") or r["status"]]
-    if r["outcome"] == "misses target" and r.get("resim_miss") is not None:
-        parts.append(f"by {order(r['resim_miss'])}")
+def reason(m, outcome):
+    """How the Measurement `m` of outcome `outcome` ended, in words: the solver's own message and the
+    suite's (with the re-simulated miss when the control misses the target)."""
+    parts = [m.solver_message, m.message or m.status]
+    if outcome == Outcome.MISSES_TARGET and m.resim_miss is not None:
+        parts.append(f"by {order(m.resim_miss)}")
     return ": ".join(p for p in parts if p)
 
 
 def outcome_counts(records):
-    return dict(Counter(r["outcome"] for r in records))
+    """{outcome label: rows}, in the order first seen."""
+    return {str(k): n for k, n in Counter(r.outcome for r in records).items()}
 
 
 def _by(records, key):
     out = defaultdict(list)
     for r in records:
-        out[r[key]].append(r)
+        out[getattr(r, key)].append(r)
     return out
 
 
+#: a table cell is cut to this many characters, a label in a chart to LABEL
+CELL, LABEL = 1000, 80
+
+
 def markdown(rows):
-    """A list of dicts as a Markdown table."""
+    """A list of dicts as a Markdown table (cells printable, cut to CELL characters)."""
     if not rows:
         return "(none)\n"
     cols = list(rows[0])
-    lines = ["| " + " | ".join(cols) + " |", "|" + "|".join(" --- " for _ in cols) + "|"]
-    lines += ["| " + " | ".join(str(row[c]).replace("|", "/") for c in cols) + " |" for row in rows]
+    cell = lambda v: printable(str(v).replace("|", "/").replace("\n", " "))[:CELL]
+    lines = ["| " + " | ".join(map(cell, cols)) + " |", "|" + "|".join(" --- " for _ in cols) + "|"]
+    lines += ["| " + " | ".join(cell(row[c]) for c in cols) + " |" for row in rows]
     return "\n".join(lines) + "\n"
 
 
 def slug(text):
-    """`text` as a file name: lower-case letters and digits, runs of anything else one "-"."""
-    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
+    """`text` as a file name: lower-case letters and digits, runs of anything else one "-"; past 80
+    characters, cut to 71 and ended by 8 hex digits of its SHA-256 (names stay distinct and legal)."""
+    name = re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
+    return name if len(name) <= 80 else f"{name[:71]}-{hashlib.sha256(name.encode()).hexdigest()[:8]}"
 
 
-#: outcomes of a converged answer on another extremal than the optimum (`ocp.result.DirectClass`)
-ANOTHER = ("local optimum", "wrong structure", "beyond horizon")
-#: the time profile's accuracy targets and the accuracy profile's relative time budgets (module doc)
-ACCURACIES = (1e-2, 3e-3, 1e-3)
-BUDGETS = (2.0, 10.0)
 #: colours of the method families: the dark then the light shades of matplotlib's tab20
 PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22",
            "#17becf", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2", "#c7c7c7",
            "#dbdb8d", "#9edae5")
 MARKERS = ("o", "s", "^", "D", "v")
-SEARCH = "extremal search"
 
 
 def _shipped_families():
@@ -192,29 +185,20 @@ def family_style(families):
     return styles
 
 
-def _error(r):
-    """|T - T_ref| of a run, never below the reference's own accuracy (a smaller one is not resolved)."""
-    return max(abs(r["T_minus_ref"]), r.get("T_ref_error") or 0.0, 1e-16)
-
-
-#: open-marker shape of each class of an answer on another extremal
-ANOTHER_MARKERS = {"local optimum": "o", "wrong structure": "s", "beyond horizon": "^"}
-
-
 def work_precision_points(records):
     """{case label: {family: {"curve": [point], "another": [point], "failed": n}}} of the runs with
     the default guess: a point is (N, total time, |T - T*|, label); "curve" holds the answers with
     the optimal structure (by N), "another" those on another extremal, labelled with N and their
     class (local optimum, wrong structure, beyond horizon)."""
     out = {}
-    for case, runs in _by([r for r in records if r["guess"] == "default"], "case_label").items():
+    for case, runs in _by([r for r in records if r.guess == "default"], "case_label").items():
         out[case] = {}
         for family, fr in _by(runs, "family").items():
-            good = sorted((r for r in fr if r["outcome"] in GOOD), key=lambda r: r["N"] or 0)
-            other = [r for r in fr if r["outcome"] in ANOTHER and r["T_minus_ref"] is not None]
-            point = lambda r: (r["N"], r["total_time_s"], _error(r), ("search" if r["N"] is None else f"N={r['N']}")
-                               + ("" if r["outcome"] == "ok" else f" ({r['outcome']})"))
-            out[case][family] = {"curve": [point(r) for r in good], "another": [(*point(r), r["outcome"]) for r in other],
+            good = sorted((r for r in fr if r.outcome in GOOD), key=lambda r: r.N or 0)
+            other = [r for r in fr if r.outcome in ANOTHER and r.T_minus_ref is not None]
+            point = lambda r: (r.N, r.total_time_s, error(r), ("search" if r.N is None else f"N={r.N}")
+                               + ("" if r.outcome == Outcome.OK else f" ({r.outcome})"))
+            out[case][family] = {"curve": [point(r) for r in good], "another": [(*point(r), r.outcome) for r in other],
                                  "failed": len(fr) - len(good) - len(other)}
     return out
 
@@ -223,7 +207,7 @@ def work_precision(records, out_dir, formats):
     """One chart per case with the default guess (`work_precision_points`); returns the paths."""
     import matplotlib.pyplot as plt
 
-    styles = family_style({r["family"] for r in records})
+    styles = family_style({r.family for r in records})
     paths = []
     for case, families in work_precision_points(records).items():
         with plotting.style():
@@ -233,79 +217,44 @@ def work_precision(records, out_dir, formats):
                 d = families[family]
                 colour, marker = styles[family]
                 failed = d["failed"]
-                label = family + (f"  ({failed} failed)" if failed else "")
+                label = printable(family)[:LABEL] + (f"  ({failed} failed)" if failed else "")
                 if d["curve"]:
                     ax.plot([p[1] for p in d["curve"]], [p[2] for p in d["curve"]], "-", marker=marker, ms=4,
                             color=colour, label=label)
                 elif d["another"]:
                     ax.plot([], [], "-", color=colour, label=label)
                 else:
-                    ax.plot([], [], "x", color=colour, label=family + f"  (all {failed} failed)")
+                    ax.plot([], [], "x", color=colour, label=printable(family)[:LABEL] + f"  (all {failed} failed)")
                 for _, t, e, _, outcome in d["another"]:
                     classes.add(outcome)
-                    ax.plot(t, e, ANOTHER_MARKERS[outcome], mfc="none", ms=6, color=colour)
+                    ax.plot(t, e, Outcome(outcome).open_marker, mfc="none", ms=6, color=colour)
                 for _, t, e, text, *_ in d["curve"] + d["another"]:
                     ax.annotate(text, (t, e), textcoords="offset points", xytext=(4, 7 * (k % 3) - 7), fontsize=6,
                                 color=colour)
             for name in sorted(classes):
-                ax.plot([], [], ANOTHER_MARKERS[name], mfc="none", color="0.3",
-                        label=f"open {ANOTHER_MARKERS[name]}: {name} (another extremal)")
+                ax.plot([], [], Outcome(name).open_marker, mfc="none", color="0.3",
+                        label=f"open {Outcome(name).open_marker}: {name} (another extremal)")
             ax.set_xscale("log")
             ax.set_yscale("log")
+            if not any(d["curve"] or d["another"] for d in families.values()):     # every run failed
+                ax.set(xlim=(1e-2, 1e2), ylim=(1e-12, 1.0))
+                ax.text(0.5, 0.5, "no answer on this case", transform=ax.transAxes, ha="center")
             ax.set_xlabel("total time per solve, median of repeats, cold (s)")
             ax.set_ylabel("|T - T*|   (T*: the complete search's optimum)")
-            ax.set_title(f"work precision: {case}")
+            ax.set_title(f"work precision: {printable(case)[:LABEL]}")
             ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
             paths += plotting.save(fig, Path(out_dir) / f"work_precision_{slug(case)}", formats)
     return paths
 
 
-def profile_costs(records, accuracies=ACCURACIES, budgets=BUDGETS):
-    """The costs of the two profiles (module doc): {("time", eps): {family: {case: cost}}} and
-    {("error", beta): {family: {case: cost}}}, inf where a family does not get there."""
-    cases = list(dict.fromkeys(r["case"] for r in records))
-    families = list(dict.fromkeys(r["family"] for r in records))
-    good = defaultdict(list)
-    for r in records:
-        if r["outcome"] in GOOD and r["T_minus_ref"] is not None:
-            good[(r["family"], r["case"])].append(r)
-    fastest = {c: min((r["total_time_s"] for f in families for r in good[(f, c)]), default=math.inf) for c in cases}
-    costs = {}
-    for eps in accuracies:
-        costs[("time", eps)] = {f: {c: min((r["total_time_s"] for r in good[(f, c)] if _error(r) <= eps),
-                                           default=math.inf) for c in cases} for f in families}
-    for beta in budgets:
-        costs[("error", beta)] = {f: {c: min((_error(r) for r in good[(f, c)]
-                                              if r["total_time_s"] <= beta * fastest[c]), default=math.inf)
-                                      for c in cases} for f in families}
-    return costs
-
-
-def performance_profile(costs):
-    """{family: sorted ratios cost / best cost over the cases} (Dolan and More 2002) of one cost
-    table {family: {case: cost}}; inf where the family failed. Cases no family gets through are
-    left out (they rank nobody)."""
-    families = list(costs)
-    cases = list(next(iter(costs.values()))) if costs else []
-    ratios = {f: [] for f in families}
-    for case in cases:
-        best = min(costs[f][case] for f in families)
-        if not math.isfinite(best):
-            continue
-        for f in families:
-            c = costs[f][case]
-            ratios[f].append(c / best if math.isfinite(c) else math.inf)
-    return {f: sorted(r) for f, r in ratios.items()}
-
-
 def profiles(records, accuracies=ACCURACIES, budgets=BUDGETS):
     """{"time": [(eps, ratios)], "error": [(beta, ratios)], "styles": family_style}: the data of the
-    two profile charts, among the direct methods (the extremal search is the reference they are
-    measured against, not one of them: it is in the work-precision charts)."""
-    costs = profile_costs([r for r in records if r["family"] != SEARCH], accuracies, budgets)
+    two profile charts (`ocp.bench.profiles`), among the direct methods (the extremal search is the
+    reference they are measured against, not one of them: it is in the work-precision charts)."""
+    costs = profile_costs([r for r in records if r.family != SEARCH], accuracies, budgets)
     return {"time": [(eps, performance_profile(costs[("time", eps)])) for eps in accuracies],
             "error": [(beta, performance_profile(costs[("error", beta)])) for beta in budgets],
-            "styles": family_style({r["family"] for r in records})}
+            "styles": family_style({r.family for r in records})}
 
 
 def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
@@ -329,7 +278,7 @@ def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
                     continue
                 taus = [1.0] + sorted({x for x in r if math.isfinite(x)}) + [top]
                 rho = [sum(x <= tau for x in r) / len(r) for tau in taus]
-                ax.step(taus, rho, where="post", color=styles[family][0], label=family)
+                ax.step(taus, rho, where="post", color=styles[family][0], label=printable(family)[:LABEL])
             ax.set_xscale("log")
             ax.set_xlim(1.0, top)
             ax.set_ylim(-0.02, 1.02)
@@ -345,7 +294,7 @@ def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
             somewhere = [f"{f} ({', '.join(w)})" for f, w in never.items() if len(w) < len(panels)]
             note = "; ".join(([f"never, in any panel: {', '.join(everywhere)}"] if everywhere else [])
                              + ([f"not in: {'; '.join(somewhere)}"] if somewhere else []))
-            fig.text(0.01, -0.02, textwrap.fill(note, 160), fontsize=6, va="top")
+            fig.text(0.01, -0.02, textwrap.fill(printable(note)[:CELL], 160), fontsize=6, va="top")
         return plotting.save(fig, out_stem, formats)
 
 
@@ -379,7 +328,7 @@ def report(store_path, out_dir=None, budgets=BUDGETS, accuracies=ACCURACIES, for
         "outcomes": outcome_counts(records),
         "methods": method_table(records, best),
         "failures": failure_table(records),
-        "timing": sorted({r["timing"]["note"] for r in records}),
+        "timing": sorted({r.timing.note for r in records}),
         "sessions": sessions,
     }
     if out_dir is None:
@@ -403,5 +352,5 @@ def summary_markdown(tables):
              "Timing: " + "; ".join(tables["timing"]), "",
              f"Outcomes: {', '.join(f'{k} {v}' for k, v in tables['outcomes'].items())}", "",
              "## Methods", "", markdown(tables["methods"]), "## Failures", "", markdown(tables["failures"]),
-             "## Environment (last session)", "", "```", *(f"{k}: {v}" for k, v in env.items()), "```", ""]
-    return "\n".join(lines)
+             "## Environment (last session)", "", "```", *(f"{k}: {v}"[:CELL] for k, v in env.items()), "```", ""]
+    return printable("\n".join(lines), lines=True)

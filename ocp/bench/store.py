@@ -3,13 +3,19 @@
     sessions    one row per `ocp bench` invocation: suite, executor, environment (JSON), and the
                 process writing (pid, host, started, last seen, ended)
     references  one row per problem: the reference T, switch times and structure, and its source
-    results     one row per (case, method) pair: the record of `ocp.bench.runner` (JSON), the key
+    results     one row per (case, method) pair: its `ocp.bench.row.Row` (JSON), the key
                 of the suite settings it was run with (`settings_key`), and when it ran
     claims      the pairs being run now, each by one session
 
 A store is marked as ocp's (SQLite `application_id`) with its schema version (`user_version`);
-any other file is refused, and a store is read through a read-only connection (`Store(path,
-write=False)`): reading never changes a byte of it. Each row is committed as soon as it is
+any other file is refused (InputError: bad input), and a store is read without changing a byte of
+it or adding a file beside it (`Store(path, write=False)`): through a read-only connection, or,
+where SQLite would have to write to read it (a hot journal left by a killed writer, a WAL-mode
+store), from a private copy of the file and its journal in a temporary folder, recovered there.
+Opened for writing, SQLite recovers a hot journal itself (rolls the interrupted transaction back),
+so the same `ocp bench` command always resumes. Rows are `ocp.bench.row.Row` values, stored as
+JSON and validated field by field when read: a row that is not a Row of this version is a Fault
+naming it. Each row is committed as soon as it is
 known, so an interrupted benchmark keeps every finished row, and a second run skips the pairs
 already stored with the same settings (it resumes). Several `ocp bench` processes may write one
 store: a pair is claimed in a transaction before it runs and skipped by the others while its
@@ -20,20 +26,22 @@ STALE_S, is taken over). Export: `to_csv`, `to_json`.
 import contextlib
 import csv
 import json
-import math
 import os
+import shutil
 import socket
 import sqlite3
+import tempfile
 import time
 from pathlib import Path
 
 from ..core.errors import Fault, InputError
 from ..core.files import replacing
 from ..core.output import plain
-from .suite import SEARCH_FAMILY
+from ..core.parallel import process_alive
+from .row import Reference, Row, from_dict, to_dict
 
 APPLICATION_ID = 0x6F637062     # "ocpb": the SQLite header field that marks an ocp results store
-VERSION = 1                     # the schema below
+VERSION = 2                     # the schema below, with rows of `ocp.bench.row` (1: untyped records)
 BUSY_S = 60.0                   # how long a writer waits for another's transaction
 STALE_S = 3600.0                # a claim from another host not seen for this long is taken over
 HOST = socket.gethostname()
@@ -47,31 +55,20 @@ create table results (case_key text, method_key text, settings_key text, session
 create table claims (case_key text, method_key text, session integer, primary key (case_key, method_key));
 """
 
-#: what every stored record holds, as `ocp report` and `ocp figures` read it: key -> accepted types
-_NUMBER, _MAYBE = (float, int), (float, int, type(None))
-RECORD = {"case": (str,), "case_label": (str,), "problem": (str,), "family": (str,), "label": (str,),
-          "outcome": (str,), "status": (str,), "success": (bool,), "guess": (str, int), "N": (int, type(None)),
-          "T_ref": _MAYBE, "T_ref_error": _MAYBE, "T_minus_ref": _MAYBE, "total_time_s": _NUMBER, "timing": (dict,)}
-#: and what a record of the right structure (outcome in GOOD, `ocp.bench.report.GOOD`) holds besides
-GOOD, GOOD_RECORD = ("ok", "inaccurate"), {"T": _NUMBER, "T_error": _MAYBE, "T_minus_ref": _NUMBER}
+#: the files SQLite may keep beside a store: a rollback journal, a write-ahead log
+SIDECARS = ("-journal", "-wal")
 
 
 def _reject(constant):
-    raise ValueError(f"{constant} is not a number ocp bench stores")
+    raise ValueError(f"holds {constant}, not a number ocp bench stores")
 
 
-def process_alive(pid):
-    """Whether the process `pid` of this host runs (a zombie has ended; POSIX)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    try:
-        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
-    except (OSError, IndexError):
-        return True
+def _wal(path):
+    """Whether the SQLite file at `path` is in WAL mode (header bytes 18-19 are 2: SQLite's file format)."""
+    with contextlib.suppress(OSError):
+        with open(path, "rb") as f:
+            return f.read(20)[18:20] == b"\x02\x02"
+    return False
 
 
 def _alive(pid, host, seen, ended, now):
@@ -86,25 +83,26 @@ def _alive(pid, host, seen, ended, now):
 
 class Store:
     """An ocp results store: `write=True` opens it for `ocp bench` (created if absent or empty),
-    `write=False` read-only for reports (InputError if absent). Fault for a file that is not an
-    ocp store of this version, or that cannot be read or written."""
+    `write=False` read-only for reports (module doc). InputError if absent or not an ocp store of
+    this version, Fault if it cannot be read or written."""
 
     def __init__(self, path, write=True):
-        self.path = Path(path)
+        self.path, self.copy = Path(path), None
         if not write and not self.path.is_file():
             raise InputError(f"no results store at {self.path} (run `ocp bench --store {self.path}` first)")
-        if self.path.is_file() and self.path.stat().st_size > 0:
-            self.db = self._connect(write=False)
+        if not write:
+            if self.path.stat().st_size == 0:
+                raise InputError(f"{self.path} is not an ocp results store (an empty file)")
+            self.db = self._reader()
             with self._guard("read"):
                 self._check()
-            if not write:
-                return
-            self.db.close()
-        if not write:
-            raise Fault(f"{self.path} is not an ocp results store (an empty file)")
+            return
         with self._guard("create"):
             self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.db = self._connect(write=True)
+        self.db = self._connect(self.path, write=True)
+        with self._guard("open"):
+            if not self._check(empty_too=True):
+                return
         with self._transaction("create"):
             if self.db.execute("select count(*) from sqlite_master").fetchone()[0] == 0:
                 for statement in filter(str.strip, SCHEMA.split(";")):
@@ -113,29 +111,55 @@ class Store:
                 self.db.execute(f"pragma user_version = {VERSION}")
             self._check()
 
-    def _connect(self, write):
+    def _reader(self):
+        """A connection that reads the store without writing to it or beside it: read-only, or on a
+        private copy (module doc) when a journal is beside it or it is in WAL mode."""
+        sidecars = [self.path.with_name(self.path.name + s) for s in SIDECARS]
+        if not any(p.exists() for p in sidecars) and not _wal(self.path):
+            return self._connect(self.path, write=False)
+        self.copy = tempfile.TemporaryDirectory(prefix="ocp-store-")
+        copy = Path(self.copy.name) / self.path.name
+        with self._guard("copy"):
+            shutil.copyfile(self.path, copy)
+            for p in sidecars:
+                with contextlib.suppress(FileNotFoundError):
+                    shutil.copyfile(p, copy.with_name(p.name))
+        return self._connect(copy, write=True)
+
+    def _connect(self, path, write):
         try:
             if write:
-                return sqlite3.connect(self.path, timeout=BUSY_S, isolation_level=None)
-            return sqlite3.connect(self.path.resolve().as_uri() + "?mode=ro", uri=True, timeout=BUSY_S)
+                return sqlite3.connect(path, timeout=BUSY_S, isolation_level=None)
+            return sqlite3.connect(path.resolve().as_uri() + "?mode=ro", uri=True, timeout=BUSY_S)
         except (OSError, sqlite3.Error) as err:
             raise Fault(f"cannot open the results store {self.path}: {err}") from None
 
-    def _check(self):
-        """Fault unless this is an ocp store of this version."""
-        app, version = (self.db.execute(f"pragma {p}").fetchone()[0] for p in ("application_id", "user_version"))
+    def _check(self, empty_too=False):
+        """InputError unless this is an ocp store of this version (or, with `empty_too`, a database
+        without tables: then True)."""
+        try:
+            if empty_too and self.db.execute("select count(*) from sqlite_master").fetchone()[0] == 0:
+                return True
+            app, version = (self.db.execute(f"pragma {p}").fetchone()[0] for p in ("application_id", "user_version"))
+        except sqlite3.DatabaseError as err:
+            if "not a database" not in str(err):
+                raise
+            raise InputError(f"{self.path} is not an ocp results store (not a SQLite file); it is left untouched") \
+                from None
         if app != APPLICATION_ID:
-            raise Fault(f"{self.path} is not an ocp results store (a SQLite file of another kind, or written by an "
-                        f"ocp older than schema versions); it is left untouched")
+            raise InputError(f"{self.path} is not an ocp results store (a SQLite file of another kind, or written by "
+                             f"an ocp older than schema versions); it is left untouched")
         if version != VERSION:
-            raise Fault(f"{self.path} is an ocp results store of schema version {version}; this ocp reads version "
-                        f"{VERSION} (run the suite into a new store)")
+            raise InputError(f"{self.path} is an ocp results store of schema version {version}; this ocp reads "
+                             f"version {VERSION} (run the suite into a new store)")
 
     @contextlib.contextmanager
     def _guard(self, what):
         """sqlite and OS errors as a Fault naming the store."""
         try:
             yield
+        except InputError:
+            raise
         except sqlite3.DatabaseError as err:
             raise Fault(f"cannot {what} the results store {self.path}: {err} (a corrupted or foreign file?)") from None
         except (sqlite3.Error, OSError, ValueError) as err:
@@ -150,7 +174,10 @@ class Store:
                 yield
                 self.db.execute("commit")
             except BaseException:
-                self.db.execute("rollback")
+                # SQLite may have rolled back already (a full disk does): the first error is the one to tell
+                if self.db.in_transaction:
+                    with contextlib.suppress(sqlite3.Error):
+                        self.db.execute("rollback")
                 raise
 
     def _rows(self, sql, *args):
@@ -159,6 +186,8 @@ class Store:
 
     def close(self):
         self.db.close()
+        if self.copy is not None:
+            self.copy.cleanup()
 
     # --- sessions and claims --------------------------------------------------------------------
 
@@ -178,11 +207,20 @@ class Store:
             self.db.execute("delete from claims where session = ?", (session,))
 
     def sessions(self):
-        try:
-            return [{"id": i, "suite": s, "executor": e, "environment": json.loads(env)}
-                    for i, s, e, env in self._rows("select id, suite, executor, environment from sessions order by id")]
-        except (TypeError, ValueError) as err:
-            raise Fault(f"the results store {self.path} is corrupted: a session's environment is not JSON ({err})")
+        """[{id, suite, executor, environment}] of every session; Fault naming one that is not as ocp
+        bench writes it (its environment a JSON object)."""
+        sessions = []
+        for i, suite, executor, env in self._rows("select id, suite, executor, environment from sessions order by id"):
+            try:
+                environment = json.loads(env, parse_constant=_reject)
+            except (TypeError, ValueError, RecursionError) as err:
+                raise Fault(f"the results store {self.path} is corrupted: session {i}'s environment is not JSON "
+                            f"({err})") from None
+            if not isinstance(environment, dict) or not isinstance(suite, str) or not isinstance(executor, str):
+                raise Fault(f"the results store {self.path} is corrupted: session {i} is not as ocp bench writes it "
+                            f"(its suite and executor text, its environment a JSON object)")
+            sessions.append({"id": i, "suite": suite, "executor": executor, "environment": environment})
+        return sessions
 
     def _live_sessions(self, now):
         rows = self.db.execute("select id, pid, host, seen, ended, started from sessions").fetchall()
@@ -219,19 +257,23 @@ class Store:
 
     # --- rows -----------------------------------------------------------------------------------
 
-    def add_reference(self, problem_key, record):
+    def add_reference(self, problem_key, reference):
+        """Store the Reference of a problem."""
         with self._transaction():
             self.db.execute("insert or replace into references_ values (?, ?)",
-                            (problem_key, json.dumps(plain(record), allow_nan=False)))
+                            (problem_key, json.dumps(to_dict(reference), allow_nan=False)))
 
     def references(self):
-        try:
-            return {k: json.loads(r) for k, r in self._rows("select problem_key, record from references_")}
-        except (TypeError, ValueError) as err:
-            raise Fault(f"the results store {self.path} is corrupted: a reference is not JSON ({err})")
+        """{problem key: Reference}; Fault naming one that is not a Reference."""
+        refs = {}
+        for key, text in self._rows("select problem_key, record from references_"):
+            refs[key] = self._read(Reference, text, f"the reference of {key!r}")
+        return refs
 
-    def add_result(self, case_key, method_key, session, record, settings_key="", started=None):
-        """Store the pair's record (replacing a row of other settings) and release its claim."""
+    def add_result(self, case_key, method_key, session, row, settings_key="", started=None):
+        """Store the pair's Row (or its plain data, `ocp.bench.row.to_dict`), replacing a row of
+        other settings, and release its claim."""
+        record = to_dict(row) if isinstance(row, Row) else row
         now = time.time()
         with self._transaction():
             self.db.execute("insert or replace into results values (?, ?, ?, ?, ?, ?, ?)",
@@ -247,38 +289,19 @@ class Store:
         return set(self._rows("select case_key, method_key from results where settings_key = ?", settings_key))
 
     def results(self):
-        """Every stored record, in insertion order; Fault for a row that is not a record of ocp bench
-        (`RECORD`), before any is returned."""
-        records = []
-        for rowid, text in self._rows("select rowid, record from results order by rowid"):
-            try:
-                record = json.loads(text, parse_constant=_reject)
-                problem = _invalid(record)
-            except (TypeError, ValueError, RecursionError) as err:
-                problem = f"not JSON ({err})"
-            if problem:
-                raise Fault(f"the results store {self.path} is corrupted: row {rowid} {problem}")
-            records.append(record)
-        return records
+        """Every stored Row, in insertion order; Fault for one that is not a Row of this version, before
+        any is returned."""
+        return [self._read(Row, text, f"row {rowid}")
+                for rowid, text in self._rows("select rowid, record from results order by rowid")]
 
-
-def _invalid(record):
-    """What is wrong with a stored record (None when it has every RECORD field, well typed)."""
-    if not isinstance(record, dict):
-        return f"is a {type(record).__name__}, not a record"
-    schema = dict(RECORD, **(GOOD_RECORD if record.get("outcome") in GOOD else {}))
-    for key, types in schema.items():
-        if key not in record:
-            return f"has no {key!r}"
-        value = record[key]
-        if (bool in types) != isinstance(value, bool) or not isinstance(value, types) or (
-                isinstance(value, float) and not math.isfinite(value)):
-            return f"has {key} = {str(value)[:40]!r}, not of the type ocp bench writes"
-    if (record["N"] is None) != (record["family"] == SEARCH_FAMILY):
-        return f"has N = {record['N']} for the family {record['family'][:40]!r}"
-    if not isinstance(record["timing"].get("note"), str):
-        return "has no timing note"
-    return None
+    def _read(self, kind, text, what):
+        """The value of dataclass `kind` stored as JSON `text`, or Fault naming `what` and its fault."""
+        try:
+            return from_dict(kind, json.loads(text, parse_constant=_reject))
+        except (TypeError, ValueError, RecursionError) as err:
+            problem = str(err) if isinstance(err, ValueError) and not isinstance(err, json.JSONDecodeError) else \
+                f"is not JSON ({err})"
+            raise Fault(f"the results store {self.path} is corrupted: {what} {problem}") from None
 
 
 def flat(record, prefix=""):
@@ -292,9 +315,9 @@ def flat(record, prefix=""):
     return out
 
 
-def to_csv(records, path):
-    """Write records to a CSV file (whole, `ocp.core.files`), one row each, the union of their columns."""
-    rows = [flat(r) for r in records]
+def to_csv(rows, path):
+    """Write Rows to a CSV file (whole, `ocp.core.files`), one line each, the union of their columns."""
+    rows = [flat(to_dict(r)) for r in rows]
     columns = list(dict.fromkeys(k for row in rows for k in row))
     with replacing(path, "w", newline="", encoding="utf-8") as f:
         writer = csv.DictWriter(f, columns)
@@ -303,9 +326,9 @@ def to_csv(records, path):
     return path
 
 
-def to_json(records, path):
-    """Write records to a JSON file (whole)."""
-    text = json.dumps(records, indent=1, allow_nan=False, default=str) + "\n"
+def to_json(rows, path):
+    """Write Rows to a JSON file (whole)."""
+    text = json.dumps([to_dict(r) for r in rows], indent=1, allow_nan=False) + "\n"
     with replacing(path, "w", encoding="utf-8") as f:
         f.write(text)
     return path

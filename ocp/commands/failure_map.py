@@ -63,7 +63,7 @@ def run(args):
     import numpy as np
 
     from ..bench import failure_map
-    from ..bench.runner import Progress, executor
+    from ..core.parallel import Progress, executor
     from ..bench.suite import Method
     from ..core import plotting
     from ..core.output import print_json, printable, solver_output

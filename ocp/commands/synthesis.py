@@ -92,7 +92,7 @@ def add_bifurcation(p):
 def run_bifurcation(args):
     from ..core.output import print_json
     from ..synthesis import results as store
-    from ..bench.runner import Progress, drain, executor
+    from ..core.parallel import Progress, drain, executor
 
     cases = store.cases(args.case)
     workers = jobs(args.jobs)
@@ -108,7 +108,7 @@ def run_bifurcation(args):
     if todo:
         with executor(workers, args.scheduler) as (pool, workers, name):
             drain(pool, workers, [(store.compute, (c,), c) for c in todo], handle,
-                  Progress(len(todo), "bifurcation values"))
+                  Progress(len(todo), "bifurcation values"), label=lambda case: case.id)
     table = [rows[c.id] for c in cases]
     if args.json:
         print_json(table)

@@ -13,11 +13,11 @@ import os
 import sys
 
 
-def printable(text):
+def printable(text, lines=False):
     """`text` safe for a terminal: every character that is not printable (escape sequences and
-    other control characters, line breaks, bidirectional overrides) written as its Python escape
-    (ESC as \\x1b), the rest unchanged."""
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+    other control characters, line breaks unless `lines`, bidirectional overrides) written as its
+    Python escape (ESC as \\x1b), the rest unchanged."""
+    return "".join(c if c.isprintable() or (lines and c == "\n") else repr(c)[1:-1] for c in str(text))
 
 
 def plain(obj):

@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..bench import failure_map
-from ..bench.failure_map import OUTCOMES
+from ..bench.outcomes import OUTCOMES
 from ..bench.suite import Method
 from ..synthesis.field import Window, synthesize
 from .synthesis import draw_layers
@@ -20,13 +20,6 @@ MAPS = (
     ("failure-map-swing-up-1.0-ipopt", "swing-up", 1.0, Method(settings=(("N", 25),)),
      (-math.pi, math.pi, -3.0, 3.0), (13, 9), 12.0),
 )
-
-#: a colour and a marker per outcome class (`ocp.bench.runner.OUTCOMES`)
-STYLE = {"ok": ("#2ca02c", "o"), "inaccurate": ("#98df8a", "o"), "local optimum": ("#ff7f0e", "s"),
-         "wrong structure": ("#d62728", "D"), "beyond horizon": ("#8c564b", "D"), "chattering": ("#e377c2", "P"),
-         "misses target": ("#9467bd", "X"), "not converged": ("#000000", "x"), "solver error": ("#7f7f7f", "x"),
-         "build error": ("#7f7f7f", "+"), "time limit": ("#bcbd22", "+"), "no reference": ("#17becf", "v")}
-assert set(STYLE) == set(OUTCOMES)
 
 
 def map_data(kind, kappa, method, window, grid, horizon):
@@ -39,7 +32,7 @@ def _cells(ax, fmap, x, y):
     """One marker per cell at (x, y) by outcome; the legend's (handles, labels) with the counts."""
     handles, labels = [], []
     for name, count in fmap.counts().items():
-        colour, marker = STYLE[name]
+        colour, marker = name.colour, name.marker
         at = fmap.outcome == OUTCOMES.index(name)
         handles.append(ax.plot(x[at], y[at], marker, ls="none", color=colour, mec="white" if marker in "osDPXv" else colour,
                                mew=0.5, ms=6)[0])

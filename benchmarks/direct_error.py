@@ -22,7 +22,9 @@ uses the bound at N = 100, ocp/direct/solve.py states it up to BOUND_N_MAX.
 
 import argparse
 import concurrent.futures as cf
+import json
 import math
+import os
 import platform
 import sys
 import time
@@ -107,13 +109,63 @@ def summary(rows):
     return lines
 
 
+def random_instance(seed):
+    """A seeded random instance: swing-up or damping, kappa log-uniform in [0.25, 2], x0 uniform in
+    [-pi, pi] x [-2, 2]."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    kind = ("swing-up", "damping")[int(rng.integers(2))]
+    kappa = float(np.exp(rng.uniform(np.log(0.25), np.log(2.0))))
+    x0 = (float(rng.uniform(-math.pi, math.pi)), float(rng.uniform(-2.0, 2.0)))
+    return kind, round(kappa, 4), x0
+
+
+def cover(seed, N):
+    """One coverage row: the direct answer (multiple shooting, rk4, M = 4, N) of a random instance
+    against the exact search (`ocp.solve`), with what the stated error needs (switch states, h, miss)."""
+    kind, kappa, x0 = random_instance(seed)
+    start = time.perf_counter()
+    sol = ocp.solve((ocp.swing_up if kind == "swing-up" else ocp.damping)(kappa, x0), ocp.MultipleShooting(N=N))
+    d, a = sol.direct, sol.answer
+    row = {"seed": seed, "kind": kind, "kappa": kappa, "x0": x0, "N": N, "time_s": round(time.perf_counter() - start, 1),
+           "direct_status": d.status.name.lower(), "class": sol.direct_class.name.lower() if sol.direct_class is not None else None,
+           "T": d.T, "h": d.T / N, "arc_signs": list(d.structure.arc_signs), "bang_bang": d.structure.bang_bang,
+           "switch_states": [list(x) for x in d.structure.switch_states], "resim_miss": d.resim_miss,
+           "T_error": d.T_bound, "T_star": a.T if a else None, "T_star_error": a.T_error if a else None,
+           "same_structure": bool(a) and tuple(a.signs) == tuple(d.structure.arc_signs) and a.branch == d.branch}
+    return row
+
+
+def coverage(out, seeds, N):
+    """Coverage rows for `seeds` appended to `out` (JSON Lines; seeds already there are skipped)."""
+    done = set()
+    if os.path.exists(out):
+        with open(out) as f:
+            done = {(r["seed"], r["N"]) for r in map(json.loads, f) if r}
+    for seed in seeds:
+        if (seed, N) in done:
+            continue
+        row = cover(seed, N)
+        with open(out, "a") as f:
+            f.write(json.dumps(row) + "\n")
+        print(f"direct_error: seed {seed} {row['class']} ratio "
+              f"{abs(row['T'] - row['T_star']) / row['T_error'] if row['T_error'] and row['T_star'] else '-'}",
+              file=sys.stderr, flush=True)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--N", type=int, nargs="+", default=list(NS))
     parser.add_argument("--case", action="append", choices=list(CASES), help="only this case (repeatable)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (the wall times are then shared)")
     parser.add_argument("--markdown", action="store_true", help="a Markdown table (for benchmarks/README.md)")
+    parser.add_argument("--coverage", type=int, metavar="K", help="instead: K seeded random instances against the search")
+    parser.add_argument("--first-seed", type=int, default=0)
+    parser.add_argument("--out", default="benchmarks/direct_coverage.jsonl", help="coverage rows (JSON Lines, resumable)")
     args = parser.parse_args(argv)
+    if args.coverage:
+        return coverage(args.out, range(args.first_seed, args.first_seed + args.coverage), args.N[0] if args.N != list(NS) else 100)
     pairs = [(case, N) for case in args.case or CASES for N in args.N]
     with cf.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else cf.ThreadPoolExecutor(1) as pool:
         futures = [pool.submit(measure, case, N) for case, N in pairs]

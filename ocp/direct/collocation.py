@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import model
-from .base import N_MAX, Setting, Transcription
+from .base import N_MAX, Setting, SizeLimit, Transcription
 
 
 def radau_matrices(degree):
@@ -28,6 +28,10 @@ def radau_matrices(degree):
                 basis *= np.poly1d([1.0, -tau[m]]) / (tau[r] - tau[m])
         C[r] = np.polyder(basis)(tau)
     return C
+
+
+#: the largest NLP accepted, in Radau points N*degree (benchmarks/direct_size.py)
+SIZE_LIMIT = SizeLimit(20000, "N*degree", "TBD")
 
 
 @dataclass(frozen=True)
@@ -53,6 +57,16 @@ class DirectCollocation(Transcription):
 
     def prepare(self):
         return radau_matrices(self.degree)
+
+    def extra_guess(self, theta, omega):
+        """Every Radau point's state at its interval's first node."""
+        return np.tile(np.column_stack([theta[:-1], omega[:-1]]), self.degree)
+
+    def size(self):
+        return self.N * self.degree
+
+    def size_limit(self):
+        return SIZE_LIMIT
 
     def stage(self, x, u, h, kappa, extra, prepared):
         d, C = self.degree, prepared

@@ -10,9 +10,21 @@ A new integrator: a function (settings) -> F(x, u, h, kappa) and one line in INT
 from dataclasses import dataclass
 
 from ..core import model
-from .base import N_MAX, Setting, Transcription
+from .base import N_MAX, Setting, SizeLimit, Transcription, grid_bound
 
 M_MAX = 64
+#: `grid_bound` is stated for rk4 up to this N: beyond, IPOPT's default tolerance (tol = 1e-8)
+#: leaves an error of about 5e-6 in T that it does not count (benchmarks/direct_error.py: at
+#: N = 1600, |dT|/h^2 = 0.83 on swing-up kappa = 1, over its 0.41)
+BOUND_N_MAX = 800
+#: the NLP's size per integrator (integration steps: what its memory and time grow with) and its
+#: limit, measured by benchmarks/direct_size.py (benchmarks/direct_size.jsonl: one start of
+#: swing-up kappa = 1, IPOPT, on the shared 2-core machine under load)
+SIZES = {
+    "rk4": (lambda s: s.N * s.M, SizeLimit(20000, "N*M", "about 1.5 GB and 25 s to build, 2.5 s per start")),
+    "collocation": (lambda s: s.N * s.M, SizeLimit(1000, "N*M", "about 0.2 GB, 20 s to build, 100 s per start")),
+    "cvodes": (lambda s: s.N, SizeLimit(1000, "N", "TBD")),
+}
 
 
 def rk4_flow(x, u, kappa, duration, steps):
@@ -96,6 +108,16 @@ class MultipleShooting(Transcription):
 
     def stage(self, x, u, h, kappa, extra, prepared):
         return prepared(x, u, h, kappa), []
+
+    def size(self):
+        return SIZES[self.integrator][0](self)
+
+    def size_limit(self):
+        return SIZES[self.integrator][1]
+
+    def T_bound(self, structure, kappa, resim_miss):
+        """`grid_bound` for rk4 up to BOUND_N_MAX (where its coverage was measured), else None."""
+        return grid_bound(structure, kappa, resim_miss) if self.integrator == "rk4" and self.N <= BOUND_N_MAX else None
 
     def family(self):
         return f"MS {self.integrator} " + (f"tol={self.tol:g}" if self.integrator == "cvodes" else f"M={self.M}")

@@ -111,9 +111,10 @@ def _run_solve(args):
     miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, f"a number from {low:g} to {high:g}",
                                                          low, high)
     from . import solving as solve_module
+    from .direct.watch import stderr_progress
     with solver_output("stderr"):
         result = solve_module.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,
-                                    search=not args.no_refine, trusted=args.allow_unsafe_options)
+                                    search=not args.no_refine, trusted=args.allow_unsafe_options, progress=stderr_progress())
     if args.json:
         print_json(result.to_dict())
     else:

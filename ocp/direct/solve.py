@@ -29,7 +29,7 @@ from .guess import Guess, default_guesses
 from .nlp import build
 from .options import checked
 from .shooting import MultipleShooting
-from .watch import watched
+from . import watch
 
 MISS_TOL = 1e-6
 #: accepted values of miss_tol (the command line's --miss-tol, a suite's miss_tol)
@@ -146,12 +146,12 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
         raise InputError(f"guess must be None, an ocp Guess or a direct solution, not {type(guess).__name__}")
     start = time.perf_counter()
     options = checked(options, trusted)
-    with watched(progress) as watch:
-        watch.stage(f"building the NLP of {method.describe()}")
+    with watch.watched(progress) as watching:
+        watching.stage(f"building the NLP of {method.describe()}")
         nlp = build(method, solver, options, problem.reading)
         runs = []
         for i, g in enumerate(guesses):
-            watch.stage(f"{solver}, start {i + 1} of {len(guesses)} ({g.label})")
+            watching.stage(f"{solver}, start {i + 1} of {len(guesses)} ({g.label})")
             runs.append(_run(nlp, problem, g, miss_tol))
     return best_of(runs, nlp.build_time_s, time.perf_counter() - start)
 
@@ -202,6 +202,7 @@ def _run(nlp, problem, guess, miss_tol):
         converged = bool(stats.get("success", False))
     except RuntimeError as err:      # a solver that cannot run (e.g. a missing linear solver) fails this start
         w, stats, message = w0, {}, f"solver error: {last_line(err)}"
+    watch.check()                    # stopped by SIGINT: the start is not an answer
     i_th, i_om, i_T, i_u = nlp.index()
     if not (np.all(np.isfinite(w)) and w[i_T[0]] > 0):   # e.g. bonmin's NaN or all-zero exit
         w, stats, converged = w0, {}, None

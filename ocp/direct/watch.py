@@ -65,6 +65,12 @@ def iteration():
     return int(watch.interrupted is not None)
 
 
+def check():
+    """KeyboardInterrupt if SIGINT came during the watched solve (e.g. as the solver returns)."""
+    if _current is not None:
+        _current.check()
+
+
 def callback(n_x, n_g, n_p):
     """CasADi's `iteration_callback` for an NLP of n_x variables, n_g constraints, n_p parameters:
     a casadi.Callback that calls `iteration` (its inputs, the iterate, unread). Keep a reference to
@@ -176,8 +182,14 @@ def _watcher(watch, done, wake):
         os.close(stderr)
 
 
+_stderr = None
+
+
 def stderr_progress():
-    """A progress callable writing each line to the process's stderr (descriptor 2 as it is now, so
-    that lines pass while the NLP's build silences it)."""
-    fd = os.dup(2)
+    """A progress callable writing each line to the process's stderr (descriptor 2 as it was at the
+    first call, duplicated once, so that lines pass while the NLP's build silences descriptor 2)."""
+    global _stderr
+    if _stderr is None:
+        _stderr = os.dup(2)
+    fd = _stderr
     return lambda line: os.write(fd, (line + "\n").encode())

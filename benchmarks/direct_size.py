@@ -25,8 +25,8 @@ import time
 #: (transcription, fixed settings, the setting that grows, its values) per row
 ROWS = [
     ("multiple-shooting", {"integrator": "rk4", "M": 4}, "N", (500, 1000, 2000, 5000)),
-    ("multiple-shooting", {"integrator": "rk4", "M": 16}, "N", (500, 1000, 2000, 5000)),
-    ("multiple-shooting", {"integrator": "rk4", "M": 64}, "N", (250, 500, 1000, 2000, 5000)),
+    ("multiple-shooting", {"integrator": "rk4", "M": 16}, "N", (500, 1000, 1250, 2000, 5000)),
+    ("multiple-shooting", {"integrator": "rk4", "M": 64}, "N", (50, 100, 250, 500, 1000, 2000, 5000)),
     ("multiple-shooting", {"integrator": "collocation", "M": 4}, "N", (250, 500, 1000, 2000, 5000)),
     ("multiple-shooting", {"integrator": "collocation", "M": 16}, "N", (250, 500, 1000, 2000)),
     ("multiple-shooting", {"integrator": "collocation", "M": 64}, "N", (100, 250, 500, 1000)),
@@ -94,22 +94,27 @@ def main(argv=None):
     parser.add_argument("--memory-gb", type=float, default=4.0)
     parser.add_argument("--timeout", type=float, default=150.0)
     args = parser.parse_args(argv)
-    done = set()
+    done = {}                           # probe key -> how it ended
     if os.path.exists(args.out):
         with open(args.out) as f:
-            done = {json.dumps({k: v for k, v in json.loads(line).items() if k in ("transcription", "integrator", "M",
-                                "degree", "N")}, sort_keys=True) for line in f if line.strip()}
+            for row in (json.loads(line) for line in f if line.strip()):
+                done[_key(row)] = row["ended"]
     for name, fixed, key, values in ROWS:
         for value in values:
             settings = dict(fixed, **{key: value})
-            if json.dumps(dict(settings, transcription=name), sort_keys=True) in done:
-                continue
-            row = probe(name, settings, args.memory_gb, args.timeout)
-            print(json.dumps(row), flush=True)
-            with open(args.out, "a") as f:
-                f.write(json.dumps(row) + "\n")
-            if row["ended"] != "done":
+            ended = done.get(_key(dict(settings, transcription=name)))
+            if ended is None:
+                row = probe(name, settings, args.memory_gb, args.timeout)
+                print(json.dumps(row), flush=True)
+                with open(args.out, "a") as f:
+                    f.write(json.dumps(row) + "\n")
+                ended = row["ended"]
+            if ended != "done":
                 break
+
+
+def _key(row):
+    return json.dumps({k: row.get(k) for k in ("transcription", "integrator", "M", "degree", "N")}, sort_keys=True)
 
 
 if __name__ == "__main__":

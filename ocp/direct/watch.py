@@ -140,10 +140,7 @@ def _take_sigint(watch):
         return None
     read, write = os.pipe()
     os.set_blocking(write, False)
-    try:
-        old_fd = signal.set_wakeup_fd(write)
-    except ValueError:
-        old_fd = -1
+    old_fd = signal.set_wakeup_fd(write)
     if old_fd != -1:                    # someone else's descriptor: leave it
         signal.set_wakeup_fd(old_fd)
         os.close(read)
@@ -167,8 +164,7 @@ def _watcher(watch, done, wake):
         while not done.wait(0.0):
             if wake is None:
                 done.wait(0.1)
-            elif select.select([wake], [], [], 0.1)[0]:
-                os.read(wake, 64)
+            elif select.select([wake], [], [], 0.1)[0] and signal.SIGINT in os.read(wake, 64):
                 if watch.interrupted is None:
                     watch.interrupted = time.perf_counter()
             now = time.perf_counter()

@@ -93,7 +93,10 @@ def main(argv=None):
     parser.add_argument("--out", default="benchmarks/direct_size.jsonl")
     parser.add_argument("--memory-gb", type=float, default=4.0)
     parser.add_argument("--timeout", type=float, default=150.0)
+    parser.add_argument("--table", action="store_true", help="instead: the rows of --out as a Markdown table")
     args = parser.parse_args(argv)
+    if args.table:
+        return print(table(args.out))
     done = {}                           # probe key -> how it ended
     if os.path.exists(args.out):
         with open(args.out) as f:
@@ -111,6 +114,19 @@ def main(argv=None):
                 ended = row["ended"]
             if ended != "done":
                 break
+
+
+def table(path):
+    """The probes of `path` as a Markdown table: settings, how each ended, peak RSS, build and
+    one start's solve time (two significant digits: the shared machine's noise is larger)."""
+    lines = ["| transcription | settings | ended | peak RSS MB | build s | one start s |", "| --- | --- | --- | --- | --- | --- |"]
+    with open(path) as f:
+        for r in (json.loads(line) for line in f if line.strip()):
+            settings = ", ".join(f"{k} = {r[k]}" for k in ("integrator", "M", "degree", "N") if k in r)
+            cells = [r["transcription"], settings, r["ended"], r.get("peak_rss_mb", "-"),
+                     f"{r['build_s']:.2g}" if "build_s" in r else "-", f"{r['solve_s']:.2g}" if "solve_s" in r else "-"]
+            lines.append("| " + " | ".join(map(str, cells)) + " |")
+    return "\n".join(lines)
 
 
 def _key(row):

@@ -30,8 +30,9 @@ def radau_matrices(degree):
     return C
 
 
-#: the largest NLP accepted, in Radau points N*degree (benchmarks/direct_size.py)
-SIZE_LIMIT = SizeLimit(20000, "N*degree", "TBD")
+#: the largest NLP accepted, in N*degree^2 (an interval's collocation equations have about degree^2
+#: terms; its build time grows so), measured by benchmarks/direct_size.py: N = 5000 at degree 3
+SIZE_LIMIT = SizeLimit(45000, "N*degree^2", "about 0.35 GB, 45 s to build and 11 s per start")
 
 
 @dataclass(frozen=True)
@@ -63,7 +64,7 @@ class DirectCollocation(Transcription):
         return np.tile(np.column_stack([theta[:-1], omega[:-1]]), self.degree)
 
     def size(self):
-        return self.N * self.degree
+        return self.N * self.degree ** 2
 
     def size_limit(self):
         return SIZE_LIMIT

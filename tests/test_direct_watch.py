@@ -19,8 +19,25 @@ from ocp.direct.nlp import build
 
 def test_an_nlp_larger_than_its_measured_limit_is_refused_with_what_is_accepted():
     with pytest.raises(InputError, match=r"N\*M = 320000 is too large .* accepted: N\*M <= 20000 \(that NLP takes"):
-        ocp.MultipleShooting(N=5000, M=64)
-    assert ocp.MultipleShooting(N=5000, M=4).size() == 20000        # the largest accepted rk4 NLP
+        ocp.MultipleShooting(N=5000, M=64)          # the 16.8 GB after 280 s, still growing
+
+
+@pytest.mark.parametrize("largest, larger", [
+    (dict(N=5000, M=4), dict(N=5000, M=5)),
+    (dict(N=500, integrator="collocation", M=4), dict(N=501, integrator="collocation", M=4)),
+    (dict(N=500, integrator="cvodes"), dict(N=501, integrator="cvodes")),
+])
+def test_each_integrator_accepts_up_to_its_limit(largest, larger):
+    ocp.MultipleShooting(**largest)
+    with pytest.raises(InputError, match="is too large"):
+        ocp.MultipleShooting(**larger)
+
+
+def test_direct_collocation_accepts_up_to_its_limit():
+    assert ocp.DirectCollocation(N=5000, degree=3).size() == 45000        # the largest measured
+    ocp.DirectCollocation(N=555, degree=9)
+    with pytest.raises(InputError, match=r"N\*degree\^2 = 45036 is too large"):
+        ocp.DirectCollocation(N=556, degree=9)
 
 
 def test_extra_variables_are_laid_out_by_the_transcription():

@@ -21,7 +21,7 @@ BOUND_N_MAX = 800
 #: limit, measured by benchmarks/direct_size.py (benchmarks/direct_size.jsonl: one start of
 #: swing-up kappa = 1, IPOPT, on the shared 2-core machine under load)
 SIZES = {
-    "rk4": (lambda s: s.N * s.M, SizeLimit(20000, "N*M", "about 1.5 GB, 25 s to build and 2.5 s per start at M = 4")),
+    "rk4": (lambda s: s.N * s.M, SizeLimit(20000, "N*M", "about 1.6 GB, 25 to 80 s to build and 2.5 s per start")),
     "collocation": (lambda s: s.N * s.M, SizeLimit(2000, "N*M", "about 0.2 GB, 25 s to build and 75 s per start")),
     "cvodes": (lambda s: s.N, SizeLimit(500, "N", "about 0.13 GB, 2 s to build and 40 s per start with IPOPT")),
 }

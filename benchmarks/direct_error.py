@@ -25,7 +25,7 @@ fixed by the end constraint, O(h^2); two-switch times move along a direction in 
 stationary, O(h)). The structure read off the control must be the formula's (else the row says
 so). Errors are printed to two significant digits: they are exact to far more (the reference's
 error is below 1e-13), two are what a ratio needs. Nothing is asserted here; tests/test_direct.py
-uses the bound at N = 100, ocp/direct/solve.py states it up to BOUND_N_MAX.
+uses the bound at N = 100, ocp/direct/shooting.py states it up to BOUND_N_MAX.
 """
 
 import argparse

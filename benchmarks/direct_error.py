@@ -161,34 +161,38 @@ def coverage(out, seeds, N):
 
 
 def coverage_summary(path):
-    """Lines: how often the stated bound (`ocp.direct.base.grid_bound`, recomputed from each row's
-    switch states) and the former h^2/2 cover |T - T*| on the rows of `path` where the direct answer
-    has the optimum's structure (classified optimum or inaccurate)."""
+    """Lines, per N: how often the stated bound (`ocp.direct.base.grid_bound`, recomputed from each
+    row's switch states) and the former h^2/2 cover |T - T*| (plus the search's error) on the rows
+    of `path` whose direct answer has the optimum's structure (classified optimum or inaccurate)."""
     from types import SimpleNamespace
 
     from ocp.direct.base import grid_bound
 
     with open(path) as f:
         rows = [json.loads(line) for line in f if line.strip()]
-    same = [r for r in rows if r["class"] in ("optimum", "inaccurate")]
-    ratios, none = [], 0
-    for r in same:
-        read = SimpleNamespace(bang_bang=r["bang_bang"], switch_states=r["switch_states"], h=r["h"])
-        bound = grid_bound(read, r["kappa"], r["resim_miss"])
-        error = abs(r["T"] - r["T_star"]) + r["T_star_error"]
-        if bound is None:
-            none += 1
-        else:
-            ratios.append((error / bound, error / (r["h"] ** 2 / 2)))
-    classes = {}
-    for r in rows:
-        classes[r["class"]] = classes.get(r["class"], 0) + 1
-    return [f"{len(rows)} random instances ({', '.join(f'{k}: {v}' for k, v in sorted(classes.items(), key=str))}); "
-            f"{len(same)} with the optimum's structure",
-            f"stated bound: covers {sum(a <= 1 for a, _ in ratios)} of {len(ratios)} where stated (none stated on {none}); "
-            f"largest |T - T*| / bound = {_g(max(a for a, _ in ratios))}",
-            f"former h^2/2: covers {sum(b <= 1 for _, b in ratios)} of {len(ratios)}; largest |T - T*| / (h^2/2) = "
-            f"{_g(max(b for _, b in ratios))}"]
+    lines = []
+    for N in sorted({r["N"] for r in rows}):
+        part = [r for r in rows if r["N"] == N]
+        same = [r for r in part if r["class"] in ("optimum", "inaccurate")]
+        ratios, none = [], 0
+        for r in same:
+            read = SimpleNamespace(bang_bang=r["bang_bang"], switch_states=r["switch_states"], h=r["h"])
+            bound = grid_bound(read, r["kappa"], r["resim_miss"])
+            error = abs(r["T"] - r["T_star"]) + r["T_star_error"]
+            if bound is None:
+                none += 1
+            else:
+                ratios.append((error / bound, error / (r["h"] ** 2 / 2)))
+        classes = {}
+        for r in part:
+            classes[r["class"]] = classes.get(r["class"], 0) + 1
+        lines += [f"N = {N}: {len(part)} random instances ({', '.join(f'{k}: {v}' for k, v in sorted(classes.items(), key=str))}); "
+                  f"{len(same)} with the optimum's structure",
+                  f"  stated bound: covers {sum(a <= 1 for a, _ in ratios)} of {len(ratios)} where stated (none stated on "
+                  f"{none}); largest |T - T*| / bound = {_g(max((a for a, _ in ratios), default=math.nan))}",
+                  f"  former h^2/2: covers {sum(b <= 1 for _, b in ratios)} of {len(ratios)}; largest |T - T*| / (h^2/2) = "
+                  f"{_g(max((b for _, b in ratios), default=math.nan))}"]
+    return lines
 
 
 def main(argv=None):

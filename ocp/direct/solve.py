@@ -7,8 +7,8 @@ shooting with rk4 at N <= BOUND_N_MAX = 800, `ocp.direct.base.grid_bound` (from 
 states: 2 h^2 sum_i kappa / (4 |omega_i|), to leading order, plus the re-simulated miss's share);
 elsewhere none. The former h^2/2 failed where a switch comes at low speed (kappa/(4 |omega_i|) >
 1/2): on 14 of 208 random instances, by up to 3.6 times; the stated bound covered all 208, the
-largest error half of it (benchmarks/direct_error.py --coverage, benchmarks/README.md). The bound was measured
-with IPOPT at its default tolerance; it is stated for any solver and options (tests/test_direct.py
+largest error half of it (benchmarks/direct_error.py --coverage, benchmarks/README.md, also at
+N = 50 and 400). The bound was measured with IPOPT at its default tolerance; it is stated for any solver and options (tests/test_direct.py
 checks fatrop and sqpmethod at N = 40), and a solver option that loosens the tolerance voids it.
 
 A long solve reports its progress (`progress`, `ocp.direct.watch`) and SIGINT ends it within
@@ -25,12 +25,11 @@ import numpy as np
 from ..core import simulate
 from ..core.errors import InputError, last_line
 from ..core.problem import Problem
-from . import structure
+from . import structure, watch
 from .guess import Guess, default_guesses
 from .nlp import build
 from .options import checked
 from .shooting import MultipleShooting
-from . import watch
 
 MISS_TOL = 1e-6
 #: accepted values of miss_tol (the command line's --miss-tol, a suite's miss_tol)
@@ -129,8 +128,8 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     or touch a file refused unless `trusted`: `ocp.direct.options`).
 
     `guess`: None (the default family, `default_guesses`), a Guess, or a DirectSolution.
-    `progress`: None or a callable given a line of text (what runs, e.g. "direct: start 2 of 3
-    (backswing), iteration 40, 12 s") every second once the solve has run 2 s; SIGINT raises
+    `progress`: None or a callable given a line of text (what runs, e.g. "direct: ipopt, start 2 of
+    3 (backswing), iteration 40, 12 s") every second once the solve has run 2 s; SIGINT raises
     KeyboardInterrupt within a second or two (`ocp.direct.watch`)."""
     if not isinstance(problem, Problem):
         raise InputError(f"problem must be an ocp Problem (ocp.swing_up / ocp.damping), not {type(problem).__name__}")

@@ -136,7 +136,7 @@ def test_no_bound_where_a_switch_is_within_reach_of_a_turning_point():
 
 
 def test_no_bound_is_stated_beyond_the_measured_range():
-    sol = direct_layer.solve(ocp.swing_up(1.0), ocp.MultipleShooting(N=801))
+    sol = direct_layer.solve(ocp.swing_up(1.0), ocp.MultipleShooting(N=401))
     assert sol.success and sol.T_bound is None
 
 

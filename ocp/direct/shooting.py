@@ -13,10 +13,11 @@ from ..core import model
 from .base import N_MAX, Setting, SizeLimit, Transcription, grid_bound
 
 M_MAX = 64
-#: `grid_bound` is stated for rk4 up to this N: beyond, IPOPT's default tolerance (tol = 1e-8)
-#: leaves an error of about 5e-6 in T that it does not count (benchmarks/direct_error.py: at
-#: N = 1600, |dT|/h^2 = 0.83 on swing-up kappa = 1, over its 0.41)
-BOUND_N_MAX = 800
+#: `grid_bound` is stated for rk4 up to this N, where its coverage was measured (71 of 71 random
+#: instances at N = 400, the four cases of the N-sweep): beyond, IPOPT's default tolerance
+#: (tol = 1e-8) leaves an error of a few 1e-6 in T that it does not count (benchmarks/direct_error.py
+#: --coverage: at N = 800 it failed on 7 of 39 random instances, by up to 1.7 times)
+BOUND_N_MAX = 400
 #: the NLP's size per integrator (integration steps: what its memory and time grow with) and its
 #: limit, measured by benchmarks/direct_size.py (benchmarks/direct_size.jsonl: one start of
 #: swing-up kappa = 1, IPOPT, on the shared 2-core machine under load)

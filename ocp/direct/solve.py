@@ -3,12 +3,12 @@ or several initial guesses, every start verified by re-simulating its control in
 (`ocp.core.simulate`: scipy's DOP853, nothing shared with the transcription but the model).
 
 A direct answer's accuracy: the transcription states it (`Transcription.T_bound`): for multiple
-shooting with rk4 at N <= BOUND_N_MAX = 800, `ocp.direct.base.grid_bound` (from the switch
+shooting with rk4 at N <= BOUND_N_MAX = 400, `ocp.direct.base.grid_bound` (from the switch
 states: 2 h^2 sum_i kappa / (4 |omega_i|), to leading order, plus the re-simulated miss's share);
 elsewhere none. The former h^2/2 failed where a switch comes at low speed (kappa/(4 |omega_i|) >
 1/2): on 14 of 208 random instances, by up to 3.6 times; the stated bound covered all 208, the
 largest error half of it (benchmarks/direct_error.py --coverage, benchmarks/README.md, also at
-N = 50 and 400). The bound was measured with IPOPT at its default tolerance; it is stated for any solver and options (tests/test_direct.py
+N = 50 and 400; at N = 800 IPOPT's tolerance leaves more). The bound was measured with IPOPT at its default tolerance; it is stated for any solver and options (tests/test_direct.py
 checks fatrop and sqpmethod at N = 40), and a solver option that loosens the tolerance voids it.
 
 A long solve reports its progress (`progress`, `ocp.direct.watch`) and SIGINT ends it within

@@ -1,7 +1,15 @@
-"""The error of the direct method against the exact transfers: the evidence behind the bound
-|T - T*| <= h^2/2 that `ocp.direct.solve` states (`T_bound`, up to `BOUND_N_MAX`).
+"""The error of the direct method against the exact transfers: the evidence behind the bound of T
+that `ocp.direct.solve` states (`T_bound`: `ocp.direct.base.grid_bound`, up to `BOUND_N_MAX`).
 
     python benchmarks/direct_error.py [--N 25 50 100 200 400 800 1600 3200] [--jobs 2] [--markdown]
+    nice python benchmarks/direct_error.py --coverage 300 [--N 100] [--out benchmarks/direct_coverage.jsonl]
+    python benchmarks/direct_error.py --coverage-summary [--out benchmarks/direct_coverage.jsonl]
+
+Coverage (--coverage K): K seeded random instances (`random_instance`: swing-up or damping, kappa
+log-uniform in [0.25, 2], x0 uniform in [-pi, pi] x [-2, 2]), each solved by `ocp.solve` with
+multiple shooting (rk4, M = 4, N = 100) beside the exact search; one JSON line per instance
+(resumable). --coverage-summary: on the instances whose direct answer has the optimum's structure,
+how many the stated bound (recomputed from the rows' switch states) and the former h^2/2 cover.
 
 Method: multiple shooting, rk4 with M = 4 steps per interval, IPOPT with ocp's quiet defaults
 (tol 1e-8), the default family of three initial guesses (`ocp.direct.solve`, exactly what
@@ -11,25 +19,27 @@ References: `ocp.exact.finch.one_switch` / `two_switch` (quadrature, error below
 against 30-digit mpmath and DOP853 shooting in tests/test_analytic.py), so every error printed
 here is the direct method's own to far below its last digit.
 
-Per case and N (h = T/N): |dT| = |T - T*|, |dT|/h^2 and |dT| over the stated bound h^2/2 (above 1:
-the bound fails), and the largest switch-time error over h and over h^2 (a one-switch time is
+Per case and N (h = T/N): |dT| = |T - T*|, |dT|/h^2, |dT| over the former bound h^2/2 and over
+the stated one (above 1: the bound fails; "none": none stated), and the largest switch-time error over h and over h^2 (a one-switch time is
 fixed by the end constraint, O(h^2); two-switch times move along a direction in which T is
 stationary, O(h)). The structure read off the control must be the formula's (else the row says
 so). Errors are printed to two significant digits: they are exact to far more (the reference's
 error is below 1e-13), two are what a ratio needs. Nothing is asserted here; tests/test_direct.py
-uses the bound at N = 100, ocp/direct/solve.py states it up to BOUND_N_MAX.
+uses the bound at N = 100, ocp/direct/shooting.py states it up to BOUND_N_MAX.
 """
 
 import argparse
 import concurrent.futures as cf
+import json
 import math
+import os
 import platform
 import sys
 import time
 
 import ocp
 from ocp.direct import solve as direct_solve
-from ocp.direct.solve import BOUND_N_MAX
+from ocp.direct.shooting import BOUND_N_MAX
 from ocp.exact import finch
 
 #: name -> (problem, reference transfer)
@@ -76,13 +86,13 @@ def _g(x):
 
 
 COLUMNS = ("case", "N", "|dT|", "|dT|/h^2", "|dT|/(h^2/2)", "max |dt|/h", "max |dt|/h^2", "structure",
-           "bound stated", "solve s")
+           "|dT|/stated", "solve s")
 
 
 def cells(row):
     return (row["case"], str(row["N"]), _g(row["dT"]), _g(row["dT_h2"]), _g(row["over_bound"]), _g(row["dt_h"]),
             _g(row["dt_h2"]), row["structure"] if row["status"] == "verified" else row["status"],
-            "h^2/2" if row["stated_bound"] else "none", f"{row['time_s']:.1f}")
+            _g(row["dT"] / row["stated_bound"]) if row["stated_bound"] else "none", f"{row['time_s']:.1f}")
 
 
 def summary(rows):
@@ -107,13 +117,99 @@ def summary(rows):
     return lines
 
 
+def random_instance(seed):
+    """A seeded random instance: swing-up or damping, kappa log-uniform in [0.25, 2], x0 uniform in
+    [-pi, pi] x [-2, 2]."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    kind = ("swing-up", "damping")[int(rng.integers(2))]
+    kappa = float(np.exp(rng.uniform(np.log(0.25), np.log(2.0))))
+    x0 = (float(rng.uniform(-math.pi, math.pi)), float(rng.uniform(-2.0, 2.0)))
+    return kind, round(kappa, 4), x0
+
+
+def cover(seed, N):
+    """One coverage row: the direct answer (multiple shooting, rk4, M = 4, N) of a random instance
+    against the exact search (`ocp.solve`), with what the stated error needs (switch states, h, miss)."""
+    kind, kappa, x0 = random_instance(seed)
+    start = time.perf_counter()
+    sol = ocp.solve((ocp.swing_up if kind == "swing-up" else ocp.damping)(kappa, x0), ocp.MultipleShooting(N=N))
+    d, a = sol.direct, sol.answer
+    row = {"seed": seed, "kind": kind, "kappa": kappa, "x0": x0, "N": N, "time_s": round(time.perf_counter() - start, 1),
+           "direct_status": d.status.name.lower(), "class": sol.direct_class.name.lower() if sol.direct_class is not None else None,
+           "T": d.T, "h": d.T / N, "arc_signs": list(d.structure.arc_signs), "bang_bang": d.structure.bang_bang,
+           "switch_states": [list(x) for x in d.structure.switch_states], "resim_miss": d.resim_miss,
+           "T_star": a.T if a else None, "T_star_error": a.T_error if a else None,
+           "same_structure": bool(a) and tuple(a.signs) == tuple(d.structure.arc_signs) and a.branch == d.branch}
+    return row
+
+
+def coverage(out, seeds, N):
+    """Coverage rows for `seeds` appended to `out` (JSON Lines; seeds already there are skipped)."""
+    done = set()
+    if os.path.exists(out):
+        with open(out) as f:
+            done = {(r["seed"], r["N"]) for r in map(json.loads, f) if r}
+    for seed in seeds:
+        if (seed, N) in done:
+            continue
+        row = cover(seed, N)
+        with open(out, "a") as f:
+            f.write(json.dumps(row) + "\n")
+        print(f"direct_error: seed {seed} {row['class']}", file=sys.stderr, flush=True)
+
+
+def coverage_summary(path):
+    """Lines, per N: how often the stated bound (`ocp.direct.base.grid_bound`, recomputed from each
+    row's switch states) and the former h^2/2 cover |T - T*| (plus the search's error) on the rows
+    of `path` whose direct answer has the optimum's structure (classified optimum or inaccurate)."""
+    from types import SimpleNamespace
+
+    from ocp.direct.base import grid_bound
+
+    with open(path) as f:
+        rows = [json.loads(line) for line in f if line.strip()]
+    lines = []
+    for N in sorted({r["N"] for r in rows}):
+        part = [r for r in rows if r["N"] == N]
+        same = [r for r in part if r["class"] in ("optimum", "inaccurate")]
+        ratios, none = [], 0
+        for r in same:
+            read = SimpleNamespace(bang_bang=r["bang_bang"], switch_states=r["switch_states"], h=r["h"])
+            bound = grid_bound(read, r["kappa"], r["resim_miss"])
+            error = abs(r["T"] - r["T_star"]) + r["T_star_error"]
+            if bound is None:
+                none += 1
+            else:
+                ratios.append((error / bound, error / (r["h"] ** 2 / 2)))
+        classes = {}
+        for r in part:
+            classes[r["class"]] = classes.get(r["class"], 0) + 1
+        lines += [f"N = {N}: {len(part)} random instances ({', '.join(f'{k}: {v}' for k, v in sorted(classes.items(), key=str))}); "
+                  f"{len(same)} with the optimum's structure",
+                  f"  stated bound: covers {sum(a <= 1 for a, _ in ratios)} of {len(ratios)} where stated (none stated on "
+                  f"{none}); largest |T - T*| / bound = {_g(max((a for a, _ in ratios), default=math.nan))}",
+                  f"  former h^2/2: covers {sum(b <= 1 for _, b in ratios)} of {len(ratios)}; largest |T - T*| / (h^2/2) = "
+                  f"{_g(max((b for _, b in ratios), default=math.nan))}"]
+    return lines
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--N", type=int, nargs="+", default=list(NS))
     parser.add_argument("--case", action="append", choices=list(CASES), help="only this case (repeatable)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (the wall times are then shared)")
     parser.add_argument("--markdown", action="store_true", help="a Markdown table (for benchmarks/README.md)")
+    parser.add_argument("--coverage", type=int, metavar="K", help="instead: K seeded random instances against the search")
+    parser.add_argument("--first-seed", type=int, default=0)
+    parser.add_argument("--out", default="benchmarks/direct_coverage.jsonl", help="coverage rows (JSON Lines, resumable)")
+    parser.add_argument("--coverage-summary", action="store_true", help="instead: summarise the rows of --out")
     args = parser.parse_args(argv)
+    if args.coverage_summary:
+        return print("\n".join(coverage_summary(args.out)))
+    if args.coverage:
+        return coverage(args.out, range(args.first_seed, args.first_seed + args.coverage), args.N[0] if args.N != list(NS) else 100)
     pairs = [(case, N) for case in args.case or CASES for N in args.N]
     with cf.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else cf.ThreadPoolExecutor(1) as pool:
         futures = [pool.submit(measure, case, N) for case, N in pairs]

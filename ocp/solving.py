@@ -77,13 +77,14 @@ def classify(direct, answer, ties, extremals, horizon):
 
 
 def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=None,
-          search=True, trusted=False, margin=MARGIN):
+          search=True, trusted=False, margin=MARGIN, progress=None):
     """The minimum-time Solution of `problem` (see the module doc).
 
     method, solver, options, guess, miss_tol, trusted: the direct transcription (`ocp.direct.solve`),
     run only when `method` is given or `search` is False; the answer comes from the search unless
     `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least.
-    miss_tol None: `ocp.direct.MISS_TOL`."""
+    miss_tol None: `ocp.direct.MISS_TOL`. progress: None or a callable given the direct solve's
+    progress lines (`ocp.direct.solve`)."""
     if not isinstance(problem, Problem):
         raise InputError(f"problem must be an ocp Problem (ocp.swing_up, ocp.damping), not {type(problem).__name__}")
     start = time.perf_counter()
@@ -91,7 +92,7 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     if method is not None or not search:
         from . import direct as direct_layer
         direct = direct_layer.solve(problem, method, solver, options, guess,
-                                    direct_layer.MISS_TOL if miss_tol is None else miss_tol, trusted)
+                                    direct_layer.MISS_TOL if miss_tol is None else miss_tol, trusted, progress)
     direct_time = time.perf_counter() - start
     if not search:
         status = SolveStatus.DIRECT_ONLY if direct.success else SolveStatus.DIRECT_FAILED

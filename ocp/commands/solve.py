@@ -98,6 +98,7 @@ def run(args):
     from ..figures.solution import Export
     from ..core.problem import make
     from ..direct.solve import MISS_TOL_RANGE
+    from ..direct.watch import stderr_progress
 
     branch = 0 if args.plane else (None if args.branch is None else integer(
         "branch", args.branch, "an integer k (the target branch)", -10**6, 10**6))
@@ -109,7 +110,8 @@ def run(args):
     export = Export.of(args.sample, args.csv, args.plot, args.json)
     with solver_output("stderr"):
         result = solving.solve(problem, transcription, args.solver, dict(args.option), miss_tol=miss_tol,
-                               search=not args.no_refine, trusted=args.allow_unsafe_options)
+                               search=not args.no_refine, trusted=args.allow_unsafe_options,
+                               progress=stderr_progress())
     exported, lines = export.write(result)
     if args.json:
         print_json(dict(result.to_dict(), **exported))

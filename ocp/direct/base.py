@@ -17,13 +17,24 @@ dataclass (plain data: it travels to worker processes) and implements:
     6. `stage(x, u, h, kappa, extra, prepared)`: the state at the end of the interval and the
        stage's own constraints (expressions that must vanish), in CasADi symbols
     7. `describe()`: one line for summaries; `family()`: the short label of charts without N
+    8. `extra_guess(theta, omega)`: the initial values of the stages' extra variables, an
+       (N, extra) array, from a guess's node values (N+1 each)
+    9. `size()` and `size_limit()`: the NLP's size in the unit its memory and time grow with (e.g.
+       RK4 steps N*M), and the largest accepted with what it costs (`SizeLimit`, measured by
+       benchmarks/direct_size.py); `check_settings()` refuses a larger NLP (InputError)
+    10. `T_bound(structure, kappa, resim_miss)`: the stated bound of the error of a verified T (the
+       transcription's own evidence; `grid_bound` where it holds), None where none is stated
 """
 
 from dataclasses import asdict, dataclass, fields
 
+import numpy as np
+
 from ..core.errors import InputError, finite, integer
 
-N_MAX = 5000     # the NLP of N = 5000 (rk4, M = 4) takes about 1 GB to build; larger is refused
+N_MAX = 5000     # the largest N of any transcription; the NLP's size is limited too (`size_limit`)
+#: the safety factor of `grid_bound` over its leading-order term (the terms of order h^3 neglected)
+GRID_SAFETY = 2.0
 
 
 @dataclass(frozen=True)
@@ -60,6 +71,41 @@ class Setting:
         return finite(self.name, value, accepted, self.low, self.high)
 
 
+@dataclass(frozen=True)
+class SizeLimit:
+    """The largest accepted NLP size (`Transcription.size`), in words (`unit`, e.g. "N*M"), and
+    what the NLP of that size was measured to take (`cost`, e.g. "1.5 GB and 25 s to build")."""
+
+    limit: int
+    unit: str
+    cost: str
+
+
+def grid_bound(structure, kappa, resim_miss):
+    """The error bound of T for a bang-bang control piecewise constant on a uniform grid of step h:
+
+        |T - T*| <= GRID_SAFETY * h^2 * sum_i kappa / (4 w_i) + resim_miss * (1/kappa + 1/w_n),
+        w_i = |omega_i| - (1 + kappa) h.
+
+    The first term is the switch's: a switch at fraction a of its interval, replaced by the
+    interval's mean control, leaves the same omega and theta short by kappa h^2 a (1 - a) <=
+    kappa h^2 / 4, which costs lambda_theta * dtheta in T, with lambda_theta = -1/omega_i at the
+    switch (H = 1 + lambda . f = 0 where lambda_omega = 0); omega_i is the direct answer's, within
+    (1 + kappa) h of the optimum's (|omega'| <= 1 + kappa, switch times within h). The second is
+    the integrator's: the re-simulated control misses the target by resim_miss, which costs
+    |lambda(T)| resim_miss, |lambda_omega(T)| = 1/kappa at rest on the target, |lambda_theta| that
+    of the last switch. Valid to leading order in h: where a switch lies within (1 + kappa) h of a
+    turning point (w_i <= 0) or there is no switch, None (no bound). Its coverage against the exact
+    search: benchmarks/direct_error.py --coverage (benchmarks/README.md)."""
+    if not structure.bang_bang or not structure.switch_states:
+        return None
+    h = structure.h
+    w = [abs(omega) - (1 + kappa) * h for _, omega in structure.switch_states]
+    if min(w) <= 0:
+        return None
+    return GRID_SAFETY * h * h * sum(kappa / (4 * wi) for wi in w) + resim_miss * (1 / kappa + 1 / w[-1])
+
+
 class Transcription:
     name = ""
     extra = 0
@@ -68,9 +114,26 @@ class Transcription:
     SETTINGS = ()
 
     def check_settings(self):
-        """Each setting's value checked by its declaration (InputError)."""
+        """Each setting's value checked by its declaration, then the NLP's size by its limit
+        (InputError)."""
         for setting in self.SETTINGS:
             setting.parse(getattr(self, setting.name))
+        limit = self.size_limit()
+        if self.size() > limit.limit:
+            raise InputError(f"{limit.unit} = {self.size()} is too large for {self.describe()}; accepted: "
+                             f"{limit.unit} <= {limit.limit} (that NLP takes {limit.cost})")
+
+    def size(self):
+        raise NotImplementedError
+
+    def size_limit(self):
+        raise NotImplementedError
+
+    def extra_guess(self, theta, omega):
+        return np.zeros((len(theta) - 1, self.extra))
+
+    def T_bound(self, structure, kappa, resim_miss):
+        return None
 
     def applicable(self):
         return tuple(f.name for f in fields(self))

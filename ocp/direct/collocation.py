@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import model
-from .base import N_MAX, Setting, Transcription
+from .base import N_MAX, Setting, SizeLimit, Transcription
 
 
 def radau_matrices(degree):
@@ -28,6 +28,11 @@ def radau_matrices(degree):
                 basis *= np.poly1d([1.0, -tau[m]]) / (tau[r] - tau[m])
         C[r] = np.polyder(basis)(tau)
     return C
+
+
+#: the largest NLP accepted, in N*degree^2 (an interval's collocation equations have about degree^2
+#: terms; its build time grows so), measured by benchmarks/direct_size.py: N = 5000 at degree 3
+SIZE_LIMIT = SizeLimit(45000, "N*degree^2", "about 0.35 GB, 45 s to build and 11 s per start")
 
 
 @dataclass(frozen=True)
@@ -53,6 +58,16 @@ class DirectCollocation(Transcription):
 
     def prepare(self):
         return radau_matrices(self.degree)
+
+    def extra_guess(self, theta, omega):
+        """Every Radau point's state at its interval's first node."""
+        return np.tile(np.column_stack([theta[:-1], omega[:-1]]), self.degree)
+
+    def size(self):
+        return self.N * self.degree ** 2
+
+    def size_limit(self):
+        return SIZE_LIMIT
 
     def stage(self, x, u, h, kappa, extra, prepared):
         d, C = self.degree, prepared

@@ -22,13 +22,14 @@ from ..core.cache import cached
 from ..core.errors import InputError, last_line
 from ..core.output import solver_output
 from ..core.problem import CONTROL_BOUNDS, terminal_bounds, terminal_constraints
+from . import solvers, watch
 from .base import Transcription
-from . import solvers
 
 
 @dataclass
 class NLP:
-    """A built NLP: the CasADi solver and the layout of its variables."""
+    """A built NLP: the CasADi solver (and its iteration callback, `ocp.direct.watch`, kept alive
+    with it) and the layout of its variables."""
 
     settings: Transcription
     solver_name: str
@@ -40,6 +41,7 @@ class NLP:
     lbg: np.ndarray
     ubg: np.ndarray
     build_time_s: float
+    callback: object = None
 
     @property
     def N(self):
@@ -50,13 +52,17 @@ class NLP:
         node = np.arange(self.N + 1) * (4 + self.settings.extra)
         return node, node + 1, node + 2, node[:-1] + 3
 
+    def extra_index(self):
+        """Index array into w of the stages' extra variables, (N, extra)."""
+        return self.index()[3][:, None] + 1 + np.arange(self.settings.extra)
+
     def pack(self, theta, omega, T, u):
-        """w from node values; a stage's extra states start at the interval's first node."""
+        """w from node values; the stages' extra variables as the transcription guesses them from
+        these (`Transcription.extra_guess`)."""
         w = np.zeros(self.n_w)
         i_th, i_om, i_T, i_u = self.index()
         w[i_th], w[i_om], w[i_T], w[i_u] = theta, omega, T, u
-        for j in range(self.settings.extra // 2):
-            w[i_u + 1 + 2 * j], w[i_u + 2 + 2 * j] = theta[:-1], omega[:-1]
+        w[self.extra_index()] = self.settings.extra_guess(np.asarray(theta, float), np.asarray(omega, float))
         return w
 
     def bounds(self, x0, target, T_bounds):
@@ -121,15 +127,17 @@ def _build(settings, solver_name, options_json, reading):
     options = json.loads(options_json)
     with solvers.loading():
         nlp, lbg, ubg = _nlp(settings, reading)
+        callback = watch.callback(nlp["x"].numel(), nlp["g"].numel(), nlp["p"].numel())
         try:
             with solver_output("devnull"):      # a rejected option prints the solver's help, fatrop hundreds of warnings
                 function = ca.nlpsol("nlp", solver_name, nlp,
-                                     solvers.quiet_options(solver_name, options, settings.symbolic, lbg, ubg))
+                                     dict(solvers.quiet_options(solver_name, options, settings.symbolic, lbg, ubg),
+                                          iteration_callback=callback))
         except RuntimeError as err:
             raise InputError(f"casadi.nlpsol({solver_name!r}) could not be built with the options {options}: "
                              f"{_cause(err, solver_name)}") from None
     return NLP(settings, solver_name, options, reading, solvers.Guarded(function), nlp["x"].numel(), nlp["g"].numel(),
-               lbg, ubg, time.perf_counter() - start)
+               lbg, ubg, time.perf_counter() - start, callback)
 
 
 def _cause(err, solver_name):

@@ -12,9 +12,22 @@ from dataclasses import dataclass
 from ..core import model
 from ..core.errors import Fault
 from . import solvers
-from .base import N_MAX, Setting, Transcription
+from .base import N_MAX, Setting, SizeLimit, Transcription, grid_bound
 
 M_MAX = 64
+#: `grid_bound` is stated for rk4 up to this N, where its coverage was measured (71 of 71 random
+#: instances at N = 400, the four cases of the N-sweep): beyond, IPOPT's default tolerance
+#: (tol = 1e-8) leaves an error of a few 1e-6 in T that it does not count (benchmarks/direct_error.py
+#: --coverage: at N = 800 it failed on 7 of 39 random instances, by up to 1.7 times)
+BOUND_N_MAX = 400
+#: the NLP's size per integrator (integration steps: what its memory and time grow with) and its
+#: limit, measured by benchmarks/direct_size.py (benchmarks/direct_size.jsonl: one start of
+#: swing-up kappa = 1, IPOPT, on the shared 2-core machine under load)
+SIZES = {
+    "rk4": (lambda s: s.N * s.M, SizeLimit(20000, "N*M", "about 1.6 GB, 25 to 80 s to build and 2.5 s per start")),
+    "collocation": (lambda s: s.N * s.M, SizeLimit(2000, "N*M", "about 0.2 GB, 25 s to build and 75 s per start")),
+    "cvodes": (lambda s: s.N, SizeLimit(500, "N", "about 0.13 GB, 2 s to build and 40 s per start with IPOPT")),
+}
 
 
 def rk4_flow(x, u, kappa, duration, steps):
@@ -104,6 +117,16 @@ class MultipleShooting(Transcription):
 
     def stage(self, x, u, h, kappa, extra, prepared):
         return prepared(x, u, h, kappa), []
+
+    def size(self):
+        return SIZES[self.integrator][0](self)
+
+    def size_limit(self):
+        return SIZES[self.integrator][1]
+
+    def T_bound(self, structure, kappa, resim_miss):
+        """`grid_bound` for rk4 up to BOUND_N_MAX (where its coverage was measured), else None."""
+        return grid_bound(structure, kappa, resim_miss) if self.integrator == "rk4" and self.N <= BOUND_N_MAX else None
 
     def family(self):
         return f"MS {self.integrator} " + (f"tol={self.tol:g}" if self.integrator == "cvodes" else f"M={self.M}")

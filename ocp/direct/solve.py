@@ -2,14 +2,17 @@
 or several initial guesses, every start verified by re-simulating its control independently
 (`ocp.core.simulate`: scipy's DOP853, nothing shared with the transcription but the model).
 
-A direct answer's accuracy: for multiple shooting with rk4 at N <= BOUND_N_MAX = 800 the error of
-T is below h^2/2 (h = T/N), measured by `benchmarks/direct_error.py` on the paper's four cases
-against Finch's formulas (its table in benchmarks/README.md: |T - T*|/h^2 at most 0.35 over
-N = 25..800). Beyond N = 800 IPOPT's default tolerance (tol = 1e-8) leaves an error of about 5e-6
-in T that h^2/2 no longer covers (the same table: |T - T*| / (h^2/2) = 1.7 at N = 1600). Elsewhere
-(other integrators, collocation, larger N) no bound is stated. The bound was measured with IPOPT
-at its default tolerance; it is stated for any solver and options (tests/test_direct.py checks
-fatrop and sqpmethod at N = 40), and a solver option that loosens the tolerance voids it.
+A direct answer's accuracy: the transcription states it (`Transcription.T_bound`): for multiple
+shooting with rk4 at N <= BOUND_N_MAX = 400, `ocp.direct.base.grid_bound` (from the switch
+states: 2 h^2 sum_i kappa / (4 |omega_i|), to leading order, plus the re-simulated miss's share);
+elsewhere none. The former h^2/2 failed where a switch comes at low speed (kappa/(4 |omega_i|) >
+1/2): on 14 of 208 random instances, by up to 3.6 times; the stated bound covered all 208, the
+largest error half of it (benchmarks/direct_error.py --coverage, benchmarks/README.md, also at
+N = 50 and 400; at N = 800 IPOPT's tolerance leaves more). The bound was measured with IPOPT at its default tolerance; it is stated for any solver and options (tests/test_direct.py
+checks fatrop and sqpmethod at N = 40), and a solver option that loosens the tolerance voids it.
+
+A long solve reports its progress (`progress`, `ocp.direct.watch`) and SIGINT ends it within
+`watch.GRACE_S` seconds.
 """
 
 import enum
@@ -22,7 +25,7 @@ import numpy as np
 from ..core import simulate
 from ..core.errors import InputError, last_line
 from ..core.problem import Problem
-from . import structure
+from . import structure, watch
 from .guess import Guess, default_guesses
 from .nlp import build
 from .options import checked
@@ -31,9 +34,6 @@ from .shooting import MultipleShooting
 MISS_TOL = 1e-6
 #: accepted values of miss_tol (the command line's --miss-tol, a suite's miss_tol)
 MISS_TOL_RANGE = (1e-15, 1.0)
-#: the measured bound h^2/2 of T holds up to this N (multiple shooting, rk4; benchmarks/direct_error.py:
-#: the largest N measured where it holds on all four cases; at N = 1600 it fails)
-BOUND_N_MAX = 800
 
 
 class DirectStatus(enum.IntEnum):
@@ -121,26 +121,21 @@ class DirectSolution:
         }
 
 
-def T_bound(settings, structure_read):
-    """The measured bound of a direct T, h^2/2, where it holds (see the module doc), else None."""
-    measured = (isinstance(settings, MultipleShooting) and settings.integrator == "rk4"
-                and settings.N <= BOUND_N_MAX and structure_read.bang_bang)
-    return structure_read.h ** 2 / 2 if measured else None
-
-
-def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=MISS_TOL, trusted=False):
+def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=MISS_TOL, trusted=False,
+          progress=None):
     """The direct solution of `problem` by `method` (a transcription; default MultipleShooting()),
     NLP solved by casadi.nlpsol(`solver`, `options`) (options untouched, those that run a program
     or touch a file refused unless `trusted`: `ocp.direct.options`).
 
-    `guess`: None (the default family, `default_guesses`), a Guess, or a DirectSolution."""
+    `guess`: None (the default family, `default_guesses`), a Guess, or a DirectSolution.
+    `progress`: None or a callable given a line of text (what runs, e.g. "direct: ipopt, start 2 of
+    3 (backswing), iteration 40, 12 s") every second once the solve has run 2 s; SIGINT raises
+    KeyboardInterrupt within a second or two (`ocp.direct.watch`)."""
     if not isinstance(problem, Problem):
         raise InputError(f"problem must be an ocp Problem (ocp.swing_up / ocp.damping), not {type(problem).__name__}")
     method = MultipleShooting() if method is None else method
     if not (isinstance(miss_tol, (int, float)) and 0 < miss_tol < 1):
         raise InputError(f"miss_tol = {miss_tol!r} must be a number in (0, 1)")
-    start = time.perf_counter()
-    nlp = build(method, solver, checked(options, trusted, solver=solver), problem.reading)
     if guess is None:
         guesses = default_guesses(problem, method.N)
     elif isinstance(guess, DirectSolution):
@@ -149,7 +144,15 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
         guesses = [guess]
     else:
         raise InputError(f"guess must be None, an ocp Guess or a direct solution, not {type(guess).__name__}")
-    runs = [_run(nlp, problem, g, miss_tol) for g in guesses]
+    start = time.perf_counter()
+    options = checked(options, trusted, solver=solver)
+    with watch.watched(progress) as watching:
+        watching.stage(f"building the NLP of {method.describe()}")
+        nlp = build(method, solver, options, problem.reading)
+        runs = []
+        for i, g in enumerate(guesses):
+            watching.stage(f"{solver}, start {i + 1} of {len(guesses)} ({g.label})")
+            runs.append(_run(nlp, problem, g, miss_tol))
     return best_of(runs, nlp.build_time_s, time.perf_counter() - start)
 
 
@@ -166,7 +169,8 @@ def best_of(runs, build_time_s, total_time_s):
 def verified(problem, method, settings, t, x, u, converged, solver_message, iterations, miss_tol, solve_time_s,
              guess, branch=None):
     """The DirectSolution of one start (grid t, node states x, control u): the branch reached (the
-    nearest to theta_N unless given) and the control re-simulated independently."""
+    nearest to theta_N unless given) and the control re-simulated independently; its T bound the
+    transcription's (`settings`; None: another program's, no bound)."""
     branch = problem.nearest_branch(x[-1, 0]) if branch is None else branch
     final = simulate.piecewise(problem.x0, t, u, problem.kappa)[-1]
     miss = float(np.hypot(*(final - np.array(problem.target(branch)))))
@@ -178,7 +182,8 @@ def verified(problem, method, settings, t, x, u, converged, solver_message, iter
         status = DirectStatus.VERIFIED if miss <= miss_tol else DirectStatus.MISSES_TARGET
     read = structure.read(t, x, u, problem.kappa)
     return DirectSolution(problem, method, status, solver_message, float(t[-1]), t, x, u, branch, iterations, read,
-                          miss, miss_tol, T_bound(settings, read) if status == DirectStatus.VERIFIED else None,
+                          miss, miss_tol, None if settings is None or status != DirectStatus.VERIFIED
+                          else settings.T_bound(read, problem.kappa, miss),
                           0.0, solve_time_s, solve_time_s, guess, ())
 
 
@@ -197,6 +202,7 @@ def _run(nlp, problem, guess, miss_tol):
         converged = bool(stats.get("success", False))
     except RuntimeError as err:      # a solver that cannot run (e.g. a missing linear solver) fails this start
         w, stats, message = w0, {}, f"solver error: {last_line(err)}"
+    watch.check()                    # stopped by SIGINT: the start is not an answer
     i_th, i_om, i_T, i_u = nlp.index()
     if not (np.all(np.isfinite(w)) and w[i_T[0]] > 0):   # e.g. bonmin's NaN or all-zero exit
         w, stats, converged = w0, {}, None

@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.roots import brent
-from . import taylor
+from . import near, taylor
 
 EPS = 2.220446049250313e-16
 #: phi samples per admissible half-circle before adaptive bisection
@@ -86,7 +86,8 @@ class Extremal:
     (p(0) = (cos phi, sin phi) / (p . f(x0, u0)) so that H = 0), arc `signs`, `switch_times`,
     `switch_states` (theta, omega), and error estimates of T and of the switch times: `solved` is
     "precise" (PRECISE integration, the error from CHECK and PRECISE_ALT), "check" (CHECK, the error its
-    change from SCAN) or "exact" (a start on the target: T = 0, no arc). T_error adds the rounding
+    change from SCAN), "exact" (a start on the target: T = 0, no arc) or "near" (the closed form of
+    `ocp.indirect.near` at the target's edge, with its own error estimate). T_error adds the rounding
     accumulated over the Taylor steps (eps max(1, T) per step), and at least the effect of rounding
     the target state, eps (|theta*| max(|p1(T)|, 2/(kappa T)) + (kappa + 1)
     |p2(T)|) (dT = p(T) . dx*, and near the target T ~ 2 sqrt(d/kappa), dT/dd = 2/(kappa T)),
@@ -120,7 +121,8 @@ class Extremal:
 
 @dataclass(frozen=True)
 class Coverage:
-    """What a scan examined: the acceptance `horizon`, the admissible phi `intervals` (lo, hi, u0),
+    """What a scan examined (`basis` "scan"; "near target": the closed form of `ocp.indirect.near`,
+    every extremal before `horizon` compared): the acceptance `horizon`, the admissible phi `intervals` (lo, hi, u0),
     the number of extremals integrated, the finest phi spacing reached, the intervals left
     unresolved at MIN_WIDTH (phi_lo, phi_hi, the nearest approach of a turning point to a target
     there, -1 if unknown), and the `singular` intervals: isolated to MIN_WIDTH around an extremal
@@ -134,6 +136,7 @@ class Coverage:
     unresolved: tuple
     singular: tuple
     time_s: float
+    basis: str = "scan"
 
     @property
     def complete(self):
@@ -143,10 +146,15 @@ class Coverage:
         return {"complete": self.complete, "horizon": self.horizon, "intervals": [list(i) for i in self.intervals],
                 "extremals": self.extremals, "finest_spacing": self.finest_spacing,
                 "unresolved": [list(u) for u in self.unresolved], "singular": [list(s) for s in self.singular],
-                "description": self.describe(), "time_s": self.time_s}
+                "description": self.describe(), "time_s": self.time_s, "basis": self.basis}
 
     def describe(self):
         """The scan in words: what a missed extremal would have to look like."""
+        if self.basis == "near target":
+            return (f"closed form at the target's edge: every extremal before t = {self.horizon:.3g} has at most one "
+                    f"switch (zeros of p2 are >= pi apart) and stays within {near.NEAR_SCALE:g} rad of the target, "
+                    f"where the field is kappa u -+ x to O(x^3); both orders of its arcs solved, other branches "
+                    f"beyond reach")
         text = (f"complete scan of the costate angle: {self.extremals} extremals over "
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
                 f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g}")
@@ -437,6 +445,14 @@ def search(problem, horizon=None, margin=MARGIN):
     if k is not None:
         on_target = Extremal(k, math.nan, 0.0, (), (), (), (math.nan, math.nan), 0.0, 0.0, "exact")
         return Search((on_target,), Coverage(0.0, (), 0, math.nan, (), (), 0.0), ("the start is on the target",))
+    begun = time.perf_counter()
+    edge = near.transfer(problem)
+    if edge is not None:
+        k, T, signs, times, states, p0, error = edge
+        found = Extremal(k, math.atan2(p0[1], p0[0]), T, signs, times, states, p0, error, error, "near")
+        coverage = Coverage(T, (), 0, math.nan, (), (), time.perf_counter() - begun, "near target")
+        return Search((found,), coverage, (f"the start is within {near.NEAR_SCALE:g} rad of branch {k}: "
+                                           "the transfer in closed form",))
     horizon = GROWTH * problem.lower_bound if horizon is None else float(horizon)
     notes = []
     while True:

@@ -53,6 +53,7 @@ def _add_solve(sub):
                                           "damping: 2 pi K); default: the circle, any branch")
     reading.add_argument("--plane", action="store_true", help="solve on the plane, the standard target (branch 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--time-limit", metavar="S", help="end the search after S seconds with the best answer so far")
     d = p.add_argument_group("direct transcription (classified against the search's optimum)")
     d.add_argument("--direct", action="store_true", help="also solve a direct transcription and classify it")
     d.add_argument("--no-refine", action="store_true",
@@ -110,10 +111,13 @@ def _run_solve(args):
     low, high = MISS_TOL_RANGE
     miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, f"a number from {low:g} to {high:g}",
                                                          low, high)
+    limit = None if args.time_limit is None else finite("time-limit", args.time_limit, "seconds from 0.01 to 1e6",
+                                                          0.01, 1e6)
     from . import solving as solve_module
     with solver_output("stderr"):
         result = solve_module.solve(problem, method, args.solver, dict(args.option), miss_tol=miss_tol,
-                                    search=not args.no_refine, trusted=args.allow_unsafe_options)
+                                    search=not args.no_refine, trusted=args.allow_unsafe_options, time_limit=limit,
+                                    progress=lambda p: p.elapsed >= 2 and print(p, file=sys.stderr, flush=True))
     if args.json:
         print_json(result.to_dict())
     else:

@@ -79,13 +79,13 @@ def classify(direct, answer, ties, extremals, horizon):
 
 
 def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=None,
-          search=True, trusted=False, margin=MARGIN):
+          search=True, trusted=False, margin=MARGIN, time_limit=None, progress=None):
     """The minimum-time Solution of `problem` (see the module doc).
 
     method, solver, options, guess, miss_tol, trusted: the direct transcription (`ocp.direct.solve`),
     run only when `method` is given or `search` is False; the answer comes from the search unless
     `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least.
-    miss_tol None: `ocp.direct.MISS_TOL`."""
+    miss_tol None: `ocp.direct.MISS_TOL`. time_limit (s), progress: of the search (`ocp.indirect.search`)."""
     if not isinstance(problem, Problem):
         raise InputError(f"problem must be an ocp Problem (ocp.swing_up, ocp.damping), not {type(problem).__name__}")
     start = time.perf_counter()
@@ -107,7 +107,7 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     if direct is not None and direct.success and math.isfinite(direct.T):
         horizon = direct.T * (1 + margin) / (1 - HORIZON_BAND)
     begun = time.perf_counter()
-    found = search_extremals(problem, horizon, margin)
+    found = search_extremals(problem, horizon, margin, time_limit, progress)
     search_time = time.perf_counter() - begun
     answer, ties, runner_up = _ranked(found.arrivals)
     begun = time.perf_counter()

@@ -79,6 +79,10 @@ MARGIN = 0.2
 #: the horizon grows by this factor while no arrival is found, up to MAX_HORIZON
 GROWTH = 1.5
 MAX_HORIZON = 400.0
+#: from rest on the circle (where Problem.time_estimate is calibrated, within 10 % of T from the
+#: standard starts) the first horizon is this times the estimate, if above GROWTH times the lower
+#: bound: the runner-up's reach (1 + MARGIN) / (1 - HORIZON_BAND) with 10 % to spare, one scan
+HEADROOM = 1.1 * (1 + MARGIN) / (1 - HORIZON_BAND)
 #: the unresolved and singular intervals kept in a Coverage (all are counted)
 LISTED = 50
 #: seconds between two progress reports
@@ -580,8 +584,9 @@ def _mirrored(problem, a):
 
 
 def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None):
-    """The complete Search of `problem`: scans with a horizon growing by GROWTH from
-    GROWTH * problem.lower_bound (or from `horizon`, e.g. a feasible time known) until an arrival
+    """The complete Search of `problem`: scans with a horizon growing by GROWTH from the larger of
+    GROWTH * problem.lower_bound and (from rest, on the circle) HEADROOM * problem.time_estimate (or
+    from `horizon`, e.g. a feasible time known) until an arrival
     is found, then once more to the best time times (1 + margin) if the scan stopped short of it and
     found no runner-up. A start at rest in the upper half with the target below is scanned
     backwards in time (`_Backward`), a symmetric one (`_center`) over one half-circle and mirrored.
@@ -604,7 +609,9 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
     clock = _Clock(time_limit, progress)
     scanned, original = (_Backward.of(problem), problem) if _backwards(problem) else (problem, None)
     halves = 1 if _center(problem) is not None else 2
-    horizon = GROWTH * scanned.lower_bound if horizon is None else float(horizon)
+    if horizon is None:
+        guess = HEADROOM * problem.time_estimate if problem.x0[1] == 0.0 and problem.branch is None else 0.0
+        horizon = min(max(GROWTH * scanned.lower_bound, guess), MAX_HORIZON)
     notes, done = [], None
     while True:
         arrivals, coverage = scan(scanned, horizon, original, clock, halves)

@@ -30,6 +30,16 @@ variation to reach a target (a pair of arrivals born at a fold, narrower than th
 with the PRECISE Taylor integration, and again with CHECK and with PRECISE_ALT (another order and
 step, so another rounding): SAFETY times the largest difference, plus the rounding floor, is its
 error estimate.
+
+How the family is read (`search`): a start at the target's edge is solved in closed form
+(`ocp.indirect.near`). A start at rest high up with the target below (damping from near the
+upright) is scanned backwards in time (`_Backward`: from the target to the start, the same
+extremals reversed), because forwards from near the saddle every passage by it splits the family,
+and the scan resolves an exponentially growing fan of singular extremals (5e6 extremals for the
+damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under theta -> 2c - theta
+(at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
+moving start near the upright is still scanned forwards, and may be slow: `time_limit` ends it
+with the best arrival so far (status "stopped", not proven optimal).
 """
 
 import math

@@ -15,7 +15,7 @@ With --kappa-table: the cost against kappa (KAPPAS, 0.05 to 10) of both problems
 standard starts, and of FAST starts: the search alone (warm, median of `repeats`), the extremals it
 integrated, T and its switches; beside the textbook method at the least N of N_LADDER with
 |T - T*| < 1e-4 (one solve per N, from the straight guess; "-" where no N of the ladder reaches
-it), and the ratio of the two times. --chart DIR also draws it (DIR/search_cost.png).
+it within TEXTBOOK_BUDGET s of solves), and the ratio of the two times. --chart DIR also draws it (DIR/search_cost.png).
 """
 
 import argparse
@@ -38,6 +38,8 @@ KAPPAS = (0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0)
 FAST = [("swing-up", 1.0, (0.0, 5.0)), ("swing-up", 1.0, (0.0, 10.0)), ("damping", 1.0, (0.0, 10.0)),
         ("swing-up", 1.0, (0.0, 20.0))]
 N_LADDER = (50, 100, 200, 400, 800)
+#: seconds of textbook solves per case after which its ladder is left
+TEXTBOOK_BUDGET = 30.0
 
 
 def median_time(fn, repeats):
@@ -72,14 +74,17 @@ def process_time(args, repeats=3):
 
 def textbook_at_accuracy(problem, T_star):
     """(N, seconds) of the first N of N_LADDER whose textbook solve is verified with |T - T*| < 1e-4,
-    or (None, seconds of the last tried)."""
-    seconds = None
+    or (None, seconds of the last tried); the ladder is left once its solves took TEXTBOOK_BUDGET s."""
+    seconds, spent = None, 0.0
     for N in N_LADDER:
+        if spent > TEXTBOOK_BUDGET:
+            break
         method = ocp.MultipleShooting(N=N, integrator="rk4", M=4)
         straight = default_guesses(problem, N)[0]
         start = time.perf_counter()
         d = direct.solve(problem, method, guess=straight)
         seconds = time.perf_counter() - start
+        spent += seconds
         if d.success and abs(d.T - T_star) < 1e-4:
             return N, seconds
     return None, seconds

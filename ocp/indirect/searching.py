@@ -93,6 +93,9 @@ MAX_HORIZON = 400.0
 #: standard starts) the first horizon is this times the estimate, if above GROWTH times the lower
 #: bound: the runner-up's reach (1 + MARGIN) / (1 - HORIZON_BAND) with 10 % to spare, one scan
 HEADROOM = 1.1 * (1 + MARGIN) / (1 - HORIZON_BAND)
+#: ... for kappa from this up: below, the last scans dominate the cost anyway, and a horizon too
+#: long multiplies it (swing-up at kappa = 0.05: 20 % too long, 5 times the extremals)
+HEADROOM_KAPPA = 0.5
 #: the unresolved and singular intervals kept in a Coverage (all are counted)
 LISTED = 50
 #: seconds between two progress reports
@@ -595,7 +598,8 @@ def _mirrored(problem, a):
 
 def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None):
     """The complete Search of `problem`: scans with a horizon growing by GROWTH from the larger of
-    GROWTH * problem.lower_bound and (from rest, on the circle) HEADROOM * problem.time_estimate (or
+    GROWTH * problem.lower_bound and (from rest, on the circle, kappa >= HEADROOM_KAPPA) HEADROOM *
+    problem.time_estimate (or
     from `horizon`, e.g. a feasible time known) until an arrival
     is found, then once more to the best time times (1 + margin) if the scan stopped short of it and
     found no runner-up. A start at rest in the upper half with the target below is scanned
@@ -620,7 +624,8 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
     scanned, original = (_Backward.of(problem), problem) if _backwards(problem) else (problem, None)
     halves = 1 if _center(problem) is not None else 2
     if horizon is None:
-        guess = HEADROOM * problem.time_estimate if problem.x0[1] == 0.0 and problem.branch is None else 0.0
+        rest = problem.x0[1] == 0.0 and problem.branch is None and problem.kappa >= HEADROOM_KAPPA
+        guess = HEADROOM * problem.time_estimate if rest else 0.0
         horizon = min(max(GROWTH * scanned.lower_bound, guess), MAX_HORIZON)
     notes, done = [], None
     while True:

@@ -1,6 +1,7 @@
 """Speed of the complete search against the textbook direct method, side by side in one run.
 
     python benchmarks/search_speed.py [--repeats 5]
+    python benchmarks/search_speed.py --kappa-table [--chart DIR] [--repeats 3]
 
 For each standard case: the textbook CasADi method (multiple shooting, N = 200, RK4 with M = 4
 steps, IPOPT, one start: the straight guess; its NLP built beforehand, so the time is the solve's)
@@ -9,6 +10,12 @@ first call), each the median of `repeats` runs, with the error of T against Finc
 one applies (else against the search's own answer, marked). Then the search alone per state, and
 two whole processes: `ocp solve swing-up --kappa 1` and `ocp --help` (median of 3). Ratios, not
 absolute times, are the finding: the machine is shared.
+
+With --kappa-table: the cost against kappa (KAPPAS, 0.05 to 10) of both problems from their
+standard starts, and of FAST starts: the search alone (warm, median of `repeats`), the extremals it
+integrated, T and its switches; beside the textbook method at the least N of N_LADDER with
+|T - T*| < 1e-4 (one solve per N, from the straight guess; "-" where no N of the ladder reaches
+it within TEXTBOOK_BUDGET s of solves), and the ratio of the two times. --chart DIR also draws it (DIR/search_cost.png).
 """
 
 import argparse
@@ -27,6 +34,12 @@ from ocp.exact import finch
 from ocp.indirect import search
 
 CASES = [("swing-up", 1.0), ("swing-up", 0.75), ("swing-up", 0.5), ("swing-up", 0.3), ("damping", 1.0)]
+KAPPAS = (0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0)
+FAST = [("swing-up", 1.0, (0.0, 5.0)), ("swing-up", 1.0, (0.0, 10.0)), ("damping", 1.0, (0.0, 10.0)),
+        ("swing-up", 1.0, (0.0, 20.0))]
+N_LADDER = (50, 100, 200, 400, 800)
+#: seconds of textbook solves per case after which its ladder is left
+TEXTBOOK_BUDGET = 30.0
 
 
 def median_time(fn, repeats):
@@ -59,10 +72,75 @@ def process_time(args, repeats=3):
     return statistics.median(times)
 
 
+def textbook_at_accuracy(problem, T_star):
+    """(N, seconds) of the first N of N_LADDER whose textbook solve is verified with |T - T*| < 1e-4,
+    or (None, seconds of the last tried); the ladder is left once its solves took TEXTBOOK_BUDGET s."""
+    seconds, spent = None, 0.0
+    for N in N_LADDER:
+        if spent > TEXTBOOK_BUDGET:
+            break
+        method = ocp.MultipleShooting(N=N, integrator="rk4", M=4)
+        straight = default_guesses(problem, N)[0]
+        start = time.perf_counter()
+        d = direct.solve(problem, method, guess=straight)
+        seconds = time.perf_counter() - start
+        spent += seconds
+        if d.success and abs(d.T - T_star) < 1e-4:
+            return N, seconds
+    return None, seconds
+
+
+def kappa_table(repeats, chart):
+    """The cost against kappa of both problems, and of the FAST starts (see the module doc)."""
+    problems = [ocp.core.problem.make(kind, kappa) for kind in ("swing-up", "damping") for kappa in KAPPAS]
+    problems += [ocp.core.problem.make(kind, kappa, x0) for kind, kappa, x0 in FAST]
+    search(problems[0])                                 # load the compiled kernels
+    rows = []
+    with solver_output("devnull"):
+        for problem in problems:
+            t_search, found = median_time(lambda: search(problem), repeats)
+            best = found.best
+            N, t_text = textbook_at_accuracy(problem, best.T)
+            rows.append((problem, t_search, found, N, t_text))
+            print(f"  {problem.describe()}: search {t_search:.4f} s, textbook N = {N}", file=sys.stderr, flush=True)
+    print("| problem | start | kappa | T | switches | extremals | search s | textbook N (\|dT\| < 1e-4) | its s | ratio |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    for problem, t_search, found, N, t_text in rows:
+        best = found.best
+        text = f"{N} | {t_text:.2f} | {t_text / t_search:.0f}" if N is not None else f"- (N <= {N_LADDER[-1]}) | - | -"
+        print(f"| {problem.kind} | ({problem.x0[0]:.4g}, {problem.x0[1]:.4g}) | {problem.kappa:g} | "
+              f"{best.T:.10f} | {best.n_switches} | {found.coverage.extremals} | {t_search:.4f} | {text} |")
+    if chart:
+        from pathlib import Path
+        from ocp.core import plotting
+        plt = plotting.plt
+        with plotting.style():
+            fig, ax = plt.subplots()
+            for kind, marker in (("swing-up", "o"), ("damping", "s")):
+                mine = [r for r in rows if r[0].kind == kind and r[0].x0 == ocp.core.problem.KINDS[kind].start]
+                ax.loglog([r[0].kappa for r in mine], [r[1] for r in mine], marker=marker, label=f"search, {kind}")
+                reached = [r for r in mine if r[3] is not None]
+                ax.loglog([r[0].kappa for r in reached], [r[4] for r in reached], marker=marker, linestyle="--",
+                          label=f"textbook at |dT| < 1e-4, {kind}")
+            ax.set_xlabel("kappa")
+            ax.set_ylabel("seconds (warm)")
+            ax.set_title("cost of the minimum time against kappa, standard starts")
+            ax.legend()
+            paths = plotting.save(fig, Path(chart) / "search_cost", formats=("png",))
+        print(f"\nchart: {', '.join(map(str, paths))}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
-    repeats = parser.parse_args().repeats
+    parser.add_argument("--kappa-table", action="store_true", help="the cost against kappa (see the module doc)")
+    parser.add_argument("--chart", metavar="DIR", help="with --kappa-table: draw DIR/search_cost.png")
+    args = parser.parse_args()
+    repeats = args.repeats
+    if args.kappa_table:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+        print(f"commit {commit}, Python {platform.python_version()}, {platform.machine()}, repeats {repeats}\n")
+        return kappa_table(repeats, args.chart)
     textbook = ocp.MultipleShooting(N=200, integrator="rk4", M=4)
     ocp.solve(ocp.swing_up(1.0))                        # load the compiled kernels
     rows = []

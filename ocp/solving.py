@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from .core.errors import InputError
+from .core.output import QUIET_S
 from .core.problem import Problem
 from .indirect import certify, search as search_extremals
 from .indirect.searching import HORIZON_BAND, MARGIN
@@ -76,15 +77,24 @@ def classify(direct, answer, ties, extremals, horizon):
     return DirectClass.BEYOND_HORIZON if direct.T > horizon else DirectClass.WRONG_STRUCTURE
 
 
+def _lines(progress):
+    """The search's progress reports as lines of text for `progress`, from QUIET_S seconds on."""
+    if progress is None:
+        return None
+    return lambda report: report.elapsed >= QUIET_S and progress(str(report))
+
+
 def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=None,
-          search=True, trusted=False, margin=MARGIN, progress=None):
+          search=True, trusted=False, margin=MARGIN, time_limit=None, progress=None):
     """The minimum-time Solution of `problem` (see the module doc).
 
     method, solver, options, guess, miss_tol, trusted: the direct transcription (`ocp.direct.solve`),
     run only when `method` is given or `search` is False; the answer comes from the search unless
     `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least.
-    miss_tol None: `ocp.direct.MISS_TOL`. progress: None or a callable given the direct solve's
-    progress lines (`ocp.direct.solve`)."""
+    miss_tol None: `ocp.direct.MISS_TOL`. time_limit: seconds of search at most, then the best answer
+    so far, not proven optimal (`ocp.indirect.search`). progress: None or a callable given a line of
+    text about what runs (the direct solve's stage and iteration, the search's horizon and
+    arrivals), every second once that stage has run QUIET_S seconds."""
     if not isinstance(problem, Problem):
         raise InputError(f"problem must be an ocp Problem (ocp.swing_up, ocp.damping), not {type(problem).__name__}")
     start = time.perf_counter()
@@ -105,7 +115,7 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     if direct is not None and direct.success and math.isfinite(direct.T):
         horizon = direct.T * (1 + margin) / (1 - HORIZON_BAND)
     begun = time.perf_counter()
-    found = search_extremals(problem, horizon, margin)
+    found = search_extremals(problem, horizon, margin, time_limit, _lines(progress))
     search_time = time.perf_counter() - begun
     answer, ties, runner_up = _ranked(found.arrivals)
     begun = time.perf_counter()

@@ -6,6 +6,9 @@ point's angle minus a target angle between neighbouring samples solved by Brent'
 search must find its least time, and every arrival it finds before the search's horizon."""
 
 
+import math
+import time
+
 import numpy as np
 import pytest
 
@@ -69,3 +72,33 @@ def test_the_plane_and_the_circle_differ_where_the_nearest_target_is_not_the_pin
     plane = S.search(make("swing-up", 0.6, (-2.0, 0.0), branch=-1))
     assert circle.best.branch == 0 and circle.best.n_switches == 1
     assert plane.best.branch == -1 and plane.best.T > circle.best.T
+
+
+@pytest.mark.parametrize("kind, kappa, x0", [("damping", 0.5, (math.pi, 0.0)), ("damping", 0.7, (2.5, 0.0)),
+                                             ("swing-up", 0.75, (0.0, 0.0))])
+def test_the_backward_and_mirrored_scans_find_what_the_forward_scan_finds(kind, kappa, x0):
+    """Time reversal (a start at rest in the upper half, the target below) and the mirror symmetry
+    (at rest on a multiple of pi) change how the family is scanned, not its arrivals: the forward
+    scan of both half-circles at the same horizon finds the same times and branches."""
+    problem = make(kind, kappa, x0)
+    result = S.search(problem)
+    assert result.coverage.complete and result.coverage.reading != "forwards"
+    forward, coverage = S.scan(problem, result.coverage.horizon / (1 - S.HORIZON_BAND))
+    assert coverage.complete and coverage.reading == "forwards"
+    assert sorted((a.branch, a.signs) for a in forward) == sorted((a.branch, a.signs) for a in result.arrivals)
+    for a in result.arrivals:
+        twin = next(b for b in forward if (b.branch, b.signs) == (a.branch, a.signs))
+        assert abs(a.T - twin.T) <= a.T_error + twin.T_error
+        assert np.allclose(a.switch_times, twin.switch_times, rtol=0, atol=1e-9)
+
+
+def test_the_time_limit_ends_a_long_search_with_the_best_so_far_and_progress_is_reported():
+    """Damping from (2.5, -0.3) at kappa = 0.1 (forwards from near the upright, thousands of
+    extremals): one second of search, then a partial answer marked as such."""
+    reports = []
+    begun = time.perf_counter()
+    result = S.search(make("damping", 0.1, (2.5, -0.3)), time_limit=1.0, progress=reports.append)
+    assert time.perf_counter() - begun < 30
+    assert result.coverage.stopped and not result.coverage.complete
+    assert result.status in ("stopped", "stopped, none") and "time limit" in result.message
+    assert reports and all(isinstance(r, S.Progress) and "scanning arrivals before" in str(r) for r in reports)

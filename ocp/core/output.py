@@ -12,6 +12,9 @@ import math
 import os
 import sys
 
+#: seconds a long stage (a direct solve, a search) runs before it reports its progress
+QUIET_S = 2.0
+
 
 def printable(text, lines=False):
     """`text` safe for a terminal: every character that is not printable (escape sequences and

@@ -124,12 +124,16 @@ class Problem:
         """Whether reaching branch k solves this problem."""
         return self.branch is None or k == self.branch
 
+    def on_target_angle(self, k):
+        """Whether theta0 is the target angle of branch k to rounding (4 ulp of max(1, |theta0|))."""
+        theta0 = self.x0[0]
+        return abs(theta0 - self.target(k)[0]) <= 4 * 2.3e-16 * max(1.0, abs(theta0))
+
     def at_target(self):
         """The branch x0 is on (exactly, omega0 = 0 and theta0 on a target angle to rounding), or None."""
         theta0, omega0 = self.x0
         k = self.nearest_branch(theta0) if self.branch is None else self.branch
-        close = abs(theta0 - self.target(k)[0]) <= 4 * 2.3e-16 * max(1.0, abs(theta0))
-        return k if omega0 == 0.0 and close else None
+        return k if omega0 == 0.0 and self.on_target_angle(k) else None
 
     @property
     def stop_angle(self):

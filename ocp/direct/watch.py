@@ -23,8 +23,9 @@ import signal
 import threading
 import time
 
+from ..core.output import QUIET_S
+
 GRACE_S = 1.5
-QUIET_S = 2.0
 EVERY_S = 1.0
 
 

@@ -30,6 +30,16 @@ variation to reach a target (a pair of arrivals born at a fold, narrower than th
 with the PRECISE Taylor integration, and again with CHECK and with PRECISE_ALT (another order and
 step, so another rounding): SAFETY times the largest difference, plus the rounding floor, is its
 error estimate.
+
+How the family is read (`search`): a start at the target's edge is solved in closed form
+(`ocp.indirect.near`). A start at rest high up with the target below (damping from near the
+upright) is scanned backwards in time (`_Backward`: from the target to the start, the same
+extremals reversed), because forwards from near the saddle every passage by it splits the family,
+and the scan resolves an exponentially growing fan of singular extremals (5e6 extremals for the
+damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under theta -> 2c - theta
+(at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
+moving start near the upright is still scanned forwards, and may be slow: `time_limit` ends it
+with the best arrival so far (status "stopped", not proven optimal).
 """
 
 import math
@@ -38,8 +48,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.problem import Problem
 from ..core.roots import brent
-from . import taylor
+from . import near, taylor
 
 EPS = 2.220446049250313e-16
 #: phi samples per admissible half-circle before adaptive bisection
@@ -78,6 +89,17 @@ MARGIN = 0.2
 #: the horizon grows by this factor while no arrival is found, up to MAX_HORIZON
 GROWTH = 1.5
 MAX_HORIZON = 400.0
+#: from rest on the circle (where Problem.time_estimate is calibrated, within 10 % of T from the
+#: standard starts) the first horizon is this times the estimate, if above GROWTH times the lower
+#: bound: the runner-up's reach (1 + MARGIN) / (1 - HORIZON_BAND) with 10 % to spare, one scan
+HEADROOM = 1.1 * (1 + MARGIN) / (1 - HORIZON_BAND)
+#: ... for kappa from this up: below, the last scans dominate the cost anyway, and a horizon too
+#: long multiplies it (swing-up at kappa = 0.05: 20 % too long, 5 times the extremals)
+HEADROOM_KAPPA = 0.5
+#: the unresolved and singular intervals kept in a Coverage (all are counted)
+LISTED = 50
+#: seconds between two progress reports
+PROGRESS_EVERY = 1.0
 
 
 @dataclass(frozen=True)
@@ -86,7 +108,8 @@ class Extremal:
     (p(0) = (cos phi, sin phi) / (p . f(x0, u0)) so that H = 0), arc `signs`, `switch_times`,
     `switch_states` (theta, omega), and error estimates of T and of the switch times: `solved` is
     "precise" (PRECISE integration, the error from CHECK and PRECISE_ALT), "check" (CHECK, the error its
-    change from SCAN) or "exact" (a start on the target: T = 0, no arc). T_error adds the rounding
+    change from SCAN), "exact" (a start on the target: T = 0, no arc) or "near" (the closed form of
+    `ocp.indirect.near` at the target's edge, with its own error estimate). T_error adds the rounding
     accumulated over the Taylor steps (eps max(1, T) per step), and at least the effect of rounding
     the target state, eps (|theta*| max(|p1(T)|, 2/(kappa T)) + (kappa + 1)
     |p2(T)|) (dT = p(T) . dx*, and near the target T ~ 2 sqrt(d/kappa), dT/dd = 2/(kappa T)),
@@ -120,12 +143,17 @@ class Extremal:
 
 @dataclass(frozen=True)
 class Coverage:
-    """What a scan examined: the acceptance `horizon`, the admissible phi `intervals` (lo, hi, u0),
-    the number of extremals integrated, the finest phi spacing reached, the intervals left
-    unresolved at MIN_WIDTH (phi_lo, phi_hi, the nearest approach of a turning point to a target
-    there, -1 if unknown), and the `singular` intervals: isolated to MIN_WIDTH around an extremal
-    that reaches a saddle of its arc's field, whose turning point there stays at least FAR from
-    every target (phi_lo, phi_hi, its distance)."""
+    """What a scan examined (`basis` "scan"; "near target": the closed form of `ocp.indirect.near`,
+    every extremal before `horizon` compared): the acceptance `horizon`, the admissible phi
+    `intervals` (lo, hi, u0) scanned, the number of extremals integrated, the finest phi spacing
+    reached, the intervals left unresolved at MIN_WIDTH (phi_lo, phi_hi, the nearest approach of a
+    turning point to a target there, -1 if unknown), and the `singular` intervals: isolated to
+    MIN_WIDTH around an extremal that reaches a saddle of its arc's field, whose turning point there
+    stays at least FAR from every target (phi_lo, phi_hi, its distance). The lists keep the first
+    LISTED; `n_unresolved`, `n_singular` count them all. `stopped`: the time limit ended the scan
+    before it was complete. `reading`: how the family was scanned ("forwards"; "backwards": the
+    problem reversed in time; "+ mirror": one half-circle, the other by the symmetry
+    theta -> 2 theta0 - theta)."""
 
     horizon: float
     intervals: tuple
@@ -134,36 +162,90 @@ class Coverage:
     unresolved: tuple
     singular: tuple
     time_s: float
+    basis: str = "scan"
+    n_unresolved: int = 0
+    n_singular: int = 0
+    stopped: bool = False
+    reading: str = "forwards"
 
     @property
     def complete(self):
-        return not self.unresolved
+        return not self.n_unresolved and not self.unresolved and not self.stopped
 
     def to_dict(self):
         return {"complete": self.complete, "horizon": self.horizon, "intervals": [list(i) for i in self.intervals],
                 "extremals": self.extremals, "finest_spacing": self.finest_spacing,
                 "unresolved": [list(u) for u in self.unresolved], "singular": [list(s) for s in self.singular],
-                "description": self.describe(), "time_s": self.time_s}
+                "n_unresolved": self.n_unresolved, "n_singular": self.n_singular, "stopped": self.stopped,
+                "reading": self.reading, "description": self.describe(), "time_s": self.time_s, "basis": self.basis}
 
     def describe(self):
         """The scan in words: what a missed extremal would have to look like."""
-        text = (f"complete scan of the costate angle: {self.extremals} extremals over "
+        if self.basis == "near target":
+            return (f"closed form at the target's edge: every extremal before t = {self.horizon:.3g} has at most one "
+                    f"switch (zeros of p2 are >= pi apart) and stays within {near.NEAR_SCALE:g} rad of the target, "
+                    f"where the field is kappa u -+ x to O(x^3); both orders of its arcs solved, other branches "
+                    f"beyond reach")
+        text = (f"complete scan of the costate angle ({self.reading}): {self.extremals} extremals over "
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
                 f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g}")
-        if self.singular:
-            text += (f"; {len(self.singular)} extremal(s) reaching a saddle of their arc's field, where a turning "
+        if self.stopped:
+            text = "stopped by the time limit: " + text.replace("complete scan", "partial scan", 1).replace(
+                "every arrival", "arrivals searched")
+        if self.n_singular:
+            text += (f"; {self.n_singular} extremal(s) reaching a saddle of their arc's field, where a turning "
                      f"point goes to infinite time, isolated to {MIN_WIDTH:.0e} rad (that turning point stays "
                      f">= {min(s[2] for s in self.singular):.2g} rad from every target)")
-        if self.unresolved:
+        if self.n_unresolved:
             worst = min(u[2] for u in self.unresolved)
-            text += (f"; {len(self.unresolved)} interval(s) of width {MIN_WIDTH:.0e} left unresolved "
+            text += (f"; {self.n_unresolved} interval(s) of width {MIN_WIDTH:.0e} left unresolved "
                      f"(nearest approach to a target {worst:.1e} rad)")
         return text
 
 
 @dataclass(frozen=True)
+class Progress:
+    """Where a search is, for a progress report: seconds `elapsed`, the `horizon` of the scan, the
+    first control `u0` of the half-circle being scanned and the costate angle `phi` reached, the
+    extremals integrated and the arrivals bracketed in this scan, the best time found before."""
+
+    elapsed: float
+    horizon: float
+    u0: int
+    phi: float
+    extremals: int
+    arrivals: int
+    best: float
+
+    def __str__(self):
+        best = "none yet" if math.isnan(self.best) else f"{self.best:.6g}"
+        return (f"search {self.elapsed:.0f} s: scanning arrivals before t = {self.horizon * (1 - HORIZON_BAND):.4g}, "
+                f"half u0 = {self.u0:+d} at phi = {self.phi:.4f}, {self.extremals} extremals, {self.arrivals} "
+                f"arrival(s) bracketed, best T so far {best}")
+
+
+class _Clock:
+    """The time limit (seconds, None: none) and the progress reports (every PROGRESS_EVERY s) of a search."""
+
+    def __init__(self, time_limit, progress):
+        self.begun = time.perf_counter()
+        self.limit, self.progress = time_limit, progress
+        self.due, self.stopped, self.best = 0.0, False, math.nan
+
+    def tick(self, horizon, u0, phi, extremals, arrivals):
+        """Whether the time limit has passed; reports the progress when one is due."""
+        elapsed = time.perf_counter() - self.begun
+        if self.progress is not None and elapsed >= self.due:
+            self.due = elapsed + PROGRESS_EVERY
+            self.progress(Progress(elapsed, horizon, u0, phi, extremals, arrivals, self.best))
+        self.stopped = self.stopped or (self.limit is not None and elapsed > self.limit)
+        return self.stopped
+
+
+@dataclass(frozen=True)
 class Search:
-    """The arrivals of a complete search, fastest first, and its Coverage."""
+    """The arrivals of a complete search, fastest first, its Coverage, and its `status`: a key of
+    STATUS_MESSAGES."""
 
     arrivals: tuple
     coverage: Coverage
@@ -172,6 +254,27 @@ class Search:
     @property
     def best(self):
         return self.arrivals[0] if self.arrivals else None
+
+    @property
+    def status(self):
+        if self.coverage.complete:
+            return "optimal" if self.arrivals else "none"
+        if self.coverage.stopped:
+            return "stopped" if self.arrivals else "stopped, none"
+        return "best found" if self.arrivals else "none"
+
+    @property
+    def message(self):
+        return STATUS_MESSAGES[self.status]
+
+
+STATUS_MESSAGES = {
+    "optimal": "the least time among all extremals reaching the target before the horizon: the global optimum",
+    "best found": "the least time among the extremals found; intervals left unresolved, optimality not proved",
+    "stopped": "the time limit ended the scan: the best arrival found so far, not proven optimal",
+    "stopped, none": "the time limit ended the scan before any arrival was found",
+    "none": "no extremal reaches the target before the horizon",
+}
 
 
 class _Sample:
@@ -334,28 +437,39 @@ def _polish(family, problem, u0, label, branch, near, lo, hi, t_guess, accuracy)
         width *= 100
 
 
-def _arrival(x0, kappa, u0, branch, label, solution, error_of, solved):
+def _arrival(x0, kappa, u0, branch, label, solution, error_of, solved, original=None):
     """The Extremal of a solved turning point, its errors SAFETY times the largest difference to the
-    solutions in `error_of` (the same arrival at other accuracies), plus the rounding floor."""
+    solutions in `error_of` (the same arrival at other accuracies), plus the rounding floor. With
+    `original` (the scan was of `_Backward(original)`), the extremal read forwards in time:
+    x(t) = (theta~(T - t) + theta*_k, -omega~(T - t)), u(t) = u~(T - t), p(t) = (-p1~, p2~)(T - t)
+    for the original branch k = -branch."""
     phi, switches, event, steps = solution
     arc = label[0]
     times = tuple(float(t) for t in switches[:arc, 0])
     T_spread = max(abs(event[0] - other[2][0]) for other in error_of)
     times_spread = max((abs(a - float(b)) for other in error_of for a, b in zip(times, other[1][:arc, 0])), default=0.0)
     scale = x0[1] * math.cos(phi) + (kappa * u0 - math.sin(x0[0])) * math.sin(phi)
-    # rounding of the target state moves T by p(T) . dx (H = 0 fixes p(T): p2(T) kappa u_T = 1)
+    # rounding of the target state moves T by p(T) . dx (H = 0 fixes p(T): p2(T) (kappa u_T - sin theta_T) = 1)
     u_T = u0 * (-1) ** arc
-    p1_T, p2_T = event[4] / (event[5] * kappa * u_T), 1 / (kappa * u_T)
     theta_T = event[1]
+    force_T = kappa * u_T - math.sin(theta_T)
+    p1_T, p2_T = event[4] / (event[5] * force_T), 1 / force_T
     T = float(event[0])
     floor = EPS * (max(1.0, abs(theta_T)) * max(abs(p1_T), 2 / (kappa * T)) + (kappa + 1) * abs(p2_T))
     # the rounding accumulated over the Taylor steps, an error of eps * |y| per step carried to T
     floor += EPS * steps * max(1.0, T)
+    signs = tuple(int(u0 * (-1) ** i) for i in range(arc + 1))
+    states = tuple((float(s[1]), float(s[2])) for s in switches[:arc])
+    p0 = (math.cos(phi) / scale, math.sin(phi) / scale)
+    if original is not None:
+        branch = -branch
+        shift = original.target(branch)[0] - original.base
+        signs, times = signs[::-1], tuple(T - t for t in times[::-1])
+        states = tuple((theta + shift, -omega) for theta, omega in states[::-1])
+        p0 = (-p1_T, p2_T)
+        phi = math.atan2(p0[1], p0[0])
     return Extremal(
-        branch=branch, phi=phi, T=float(event[0]),
-        signs=tuple(int(u0 * (-1) ** i) for i in range(arc + 1)),
-        switch_times=times, switch_states=tuple((float(s[1]), float(s[2])) for s in switches[:arc]),
-        p0=(math.cos(phi) / scale, math.sin(phi) / scale),
+        branch=branch, phi=phi, T=T, signs=signs, switch_times=times, switch_states=states, p0=p0,
         T_error=SAFETY * float(T_spread) + floor,
         switch_time_error=SAFETY * times_spread + EPS * steps * max(1.0, T),
         solved=solved)
@@ -373,32 +487,35 @@ def _distinct(arrivals):
     return kept
 
 
-def scan(problem, horizon):
-    """(arrivals, Coverage) of every extremal reaching the target before horizon * (1 - HORIZON_BAND)."""
+def scan(problem, horizon, original=None, clock=None, halves=2):
+    """(arrivals, Coverage) of every extremal reaching the target before horizon * (1 - HORIZON_BAND)
+    (`original`: `problem` is `_Backward(original)`, the arrivals are read forwards; `halves` = 1:
+    the first admissible half-circle only; `clock`: a _Clock whose time limit may end the scan)."""
     start = time.perf_counter()
+    clock = clock or _Clock(None, None)
     family = _Family(problem.x0, problem.kappa)
     accept = horizon * (1 - HORIZON_BAND)
-    intervals = admissible_intervals(problem.x0, problem.kappa)
+    intervals = admissible_intervals(problem.x0, problem.kappa)[:halves]
     brackets, unresolved, singular, finest = [], [], [], math.inf
     for lo, hi, u0 in intervals:
         for end in (family.sample(lo, u0, horizon), family.sample(hi, u0, horizon)):
-            near = min((_distance(problem, th) for t, th in end.events.values() if t <= accept), default=math.inf)
-            if near < END_NEAR:
-                unresolved.append((end.phi, end.phi, near))
+            closest = min((_distance(problem, th) for t, th in end.events.values() if t <= accept), default=math.inf)
+            if closest < END_NEAR:
+                unresolved.append((end.phi, end.phi, closest))
         grid = [family.sample(phi, u0, horizon) for phi in np.linspace(lo + END_OFFSET, hi - END_OFFSET, SAMPLES + 1)]
         stack = list(zip(grid[:-1], grid[1:]))
-        while stack:
+        while stack and not clock.tick(horizon, u0, stack[-1][0].phi, family.count, len(brackets)):
             a, b = stack.pop()
             m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
-            split, near, found = _examine(problem, family, a, m, b, accept, EXTEND * horizon)
+            split, closest, found = _examine(problem, family, a, m, b, accept, EXTEND * horizon)
             brackets += [(u0, f) for f in found]
             finest = min(finest, 0.5 * (b.phi - a.phi))
             if split and b.phi - a.phi > 2 * MIN_WIDTH:
                 stack += [(a, m), (m, b)]
-            elif split and near >= FAR:
-                singular.append((a.phi, b.phi, near))
+            elif split and closest >= FAR:
+                singular.append((a.phi, b.phi, closest))
             elif split:
-                unresolved.append((a.phi, b.phi, near))
+                unresolved.append((a.phi, b.phi, closest))
     # every arrival solved to CHECK accuracy (its error: the change from SCAN), ranked; the best, those
     # within TIE_WINDOW of it and the runner-up then to PRECISE (their error: the change from CHECK)
     solved = []
@@ -420,32 +537,112 @@ def scan(problem, horizon):
                                           taylor.PRECISE_ALT)
         if precise and alternative:
             arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, precise, (check, alternative),
-                                     "precise"))
+                                     "precise", original))
         else:
-            arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, check, (rough,), "check"))
+            arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, check, (rough,), "check", original))
+    if halves == 1:
+        arrivals += [_mirrored(original or problem, a) for a in arrivals]
     arrivals = _distinct(sorted(arrivals, key=lambda r: r.T))
-    coverage = Coverage(accept, tuple(intervals), family.count, finest, tuple(unresolved), tuple(singular),
-                        time.perf_counter() - start)
+    reading = ("backwards" if original is not None else "forwards") + (" + mirror" if halves == 1 else "")
+    coverage = Coverage(accept, tuple(intervals), family.count, finest, tuple(unresolved[:LISTED]),
+                        tuple(singular[:LISTED]), time.perf_counter() - start, "scan", len(unresolved),
+                        len(singular), clock.stopped, reading)
     return arrivals, coverage
 
 
-def search(problem, horizon=None, margin=MARGIN):
-    """The complete Search of `problem`: scans with a horizon growing by GROWTH from
-    GROWTH * problem.lower_bound (or from `horizon`, e.g. a feasible time known) until an arrival
-    is found, then once more to the best time times (1 + margin) if the scan stopped short of it."""
+@dataclass(frozen=True)
+class _Backward(Problem):
+    """A start at rest (theta0, 0) run backwards in time: from the original's branch 0 target
+    (base, 0) to the turning points (theta0 + 2 pi j, 0), branch j = -k for the original branch k.
+    Time reversal, x~(t) = (theta(T - t) - 2 pi k, -omega(T - t)), u~(t) = u(T - t), maps the
+    extremals of one onto the other's (see `_arrival`)."""
+
+    angle: float = 0.0
+
+    @property
+    def base(self):
+        return self.angle
+
+    @classmethod
+    def of(cls, problem):
+        return cls(problem.kind, problem.kappa, (problem.base, 0.0),
+                   None if problem.branch is None else -problem.branch, problem.x0[0])
+
+
+def _backwards(problem):
+    """Whether to scan `problem` backwards in time: a start at rest, in the upper half (where the
+    forward family resolves an ever finer fan of extremals near the separatrix of the upright) while
+    the target is in the lower (the reversed start then is)."""
+    return problem.x0[1] == 0.0 and math.cos(problem.base) - math.cos(problem.x0[0]) > 1
+
+
+def _center(problem):
+    """The centre c of the symmetry theta -> 2c - theta, omega -> -omega, u -> -u, p -> -p that maps
+    the problem onto itself, or None: a start at rest on a multiple of pi (sin(theta0) = 0 to
+    rounding), on the circle (the reflected targets base - 2 pi k + 2c are targets)."""
+    theta0, omega0 = problem.x0
+    c = math.pi * round(theta0 / math.pi)
+    if problem.branch is not None or omega0 != 0.0 or abs(theta0 - c) > 4 * EPS * max(1.0, abs(theta0)):
+        return None
+    return c
+
+
+def _mirrored(problem, a):
+    """The mirror image of the Extremal a under the symmetry about `_center(problem)`."""
+    c = _center(problem)
+    k = problem.nearest_branch(2 * c - problem.target(a.branch)[0])
+    return Extremal(k, (a.phi + math.pi) % (2 * math.pi), a.T, tuple(-s for s in a.signs), a.switch_times,
+                    tuple((2 * c - th, -om) for th, om in a.switch_states), (-a.p0[0], -a.p0[1]), a.T_error,
+                    a.switch_time_error, a.solved)
+
+
+def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None):
+    """The complete Search of `problem`: scans with a horizon growing by GROWTH from the larger of
+    GROWTH * problem.lower_bound and (from rest, on the circle, kappa >= HEADROOM_KAPPA) HEADROOM *
+    problem.time_estimate (or
+    from `horizon`, e.g. a feasible time known) until an arrival
+    is found, then once more to the best time times (1 + margin) if the scan stopped short of it and
+    found no runner-up. A start at rest in the upper half with the target below is scanned
+    backwards in time (`_Backward`), a symmetric one (`_center`) over one half-circle and mirrored.
+
+    time_limit: seconds; when they pass, the best arrival so far is returned, status "stopped" (not
+    proven optimal; "optimal" still if only the runner-up's extension was cut). progress: called with
+    a Progress every PROGRESS_EVERY seconds."""
     k = problem.at_target()
     if k is not None:
         on_target = Extremal(k, math.nan, 0.0, (), (), (), (math.nan, math.nan), 0.0, 0.0, "exact")
         return Search((on_target,), Coverage(0.0, (), 0, math.nan, (), (), 0.0), ("the start is on the target",))
-    horizon = GROWTH * problem.lower_bound if horizon is None else float(horizon)
-    notes = []
+    begun = time.perf_counter()
+    edge = near.transfer(problem)
+    if edge is not None:
+        k, T, signs, times, states, p0, error = edge
+        found = Extremal(k, math.atan2(p0[1], p0[0]), T, signs, times, states, p0, error, error, "near")
+        coverage = Coverage(T, (), 0, math.nan, (), (), time.perf_counter() - begun, "near target")
+        return Search((found,), coverage, (f"the start is within {near.NEAR_SCALE:g} rad of branch {k}: "
+                                           "the transfer in closed form",))
+    clock = _Clock(time_limit, progress)
+    scanned, original = (_Backward.of(problem), problem) if _backwards(problem) else (problem, None)
+    halves = 1 if _center(problem) is not None else 2
+    if horizon is None:
+        rest = problem.x0[1] == 0.0 and problem.branch is None and problem.kappa >= HEADROOM_KAPPA
+        guess = HEADROOM * problem.time_estimate if rest else 0.0
+        horizon = min(max(GROWTH * scanned.lower_bound, guess), MAX_HORIZON)
+    notes, done = [], None
     while True:
-        arrivals, coverage = scan(problem, horizon)
+        arrivals, coverage = scan(scanned, horizon, original, clock, halves)
+        if clock.stopped:
+            if done is not None:        # the previous scan was complete: only the runner-up's extension was cut
+                return Search(*done, tuple(notes + ["the time limit cut the scan for the runner-up"]))
+            return Search(tuple(arrivals), coverage, tuple(notes + [f"stopped by the time limit ({time_limit:g} s)"]))
         if arrivals:
+            clock.best = arrivals[0].T
             wanted = arrivals[0].T * (1 + margin) / (1 - HORIZON_BAND)
-            if horizon >= wanted:
+            runner_up = any(a.T > arrivals[0].T * (1 + TIE_WINDOW) + 10 * (a.T_error + arrivals[0].T_error)
+                            for a in arrivals)
+            if horizon >= wanted or runner_up:
                 return Search(tuple(arrivals), coverage, tuple(notes))
             notes.append(f"scanned to {horizon:.4g}, extended to {wanted:.4g} for the runner-up")
+            done = (tuple(arrivals), coverage)
             horizon = wanted
             continue
         if horizon >= MAX_HORIZON:

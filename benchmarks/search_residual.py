@@ -1,0 +1,56 @@
+"""The residual assumption of the search's completeness, measured: the search against the exhaustive
+brute force of tests/test_search.py (a dense uniform grid of costate angles, every sign change solved)
+on random states and kappa, both kinds, both readings, one JSON line per state (resumable by seed).
+
+    python benchmarks/search_residual.py OUT.jsonl FIRST_SEED LAST_SEED
+
+A line: the problem, the search's status and reading, its best T, the brute force's best and count,
+and `missing`: the brute-force arrivals (before the search's horizon) that the search did not find.
+"""
+
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from test_search import brute_force  # noqa: E402
+
+from ocp.core.problem import make  # noqa: E402
+from ocp.indirect import searching as S  # noqa: E402
+
+#: seconds of search per state (a start moving near the upright may take longer: then "stopped")
+TIME_LIMIT = 60.0
+
+
+def state(seed):
+    rng = np.random.default_rng(seed)
+    kind = str(rng.choice(["swing-up", "damping"]))
+    kappa = float(10 ** rng.uniform(np.log10(0.2), 1))
+    x0 = (float(rng.uniform(-4, 4)), float(rng.uniform(-3, 3)) * (rng.random() < 0.8))
+    return make(kind, kappa, x0, None if rng.random() < 0.5 else int(rng.integers(-1, 2)))
+
+
+def main():
+    out_path, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+    with open(out_path, "a") as out:
+        for seed in range(first, last):
+            problem = state(seed)
+            begun = time.time()
+            result = S.search(problem, time_limit=TIME_LIMIT)
+            row = {"seed": seed, "problem": problem.to_dict(), "status": result.status}
+            if result.arrivals and result.coverage.complete:
+                horizon = result.coverage.horizon
+                brute = [T for T in brute_force(problem, horizon) if T <= horizon * 0.999]
+                found = [a.T for a in result.arrivals]
+                row.update(reading=result.coverage.reading, best=found[0], brute_best=min(brute, default=None),
+                           n_brute=len(brute), missing=[T for T in brute if not any(abs(T - F) <= 1e-8 * T for F in found)],
+                           seconds=time.time() - begun)
+            out.write(json.dumps(row) + "\n")
+            out.flush()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

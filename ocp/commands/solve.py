@@ -12,6 +12,9 @@ from ..core.arguments import add_settings, given_settings
 from ..core.errors import InputError, finite, integer, short
 
 DEFAULTS = {"transcription": "multiple-shooting", "solver": "ipopt"}
+#: the search's time limit by default: every accepted solve ends within it (or its direct solve's
+#: stated time, `ocp.direct` size limits), with the best answer so far if it was cut
+TIME_LIMIT_S = 60.0
 
 
 def add_commands(sub):
@@ -47,8 +50,9 @@ def add_arguments(p):
                                           "damping: 2 pi K); default: the circle, any branch")
     reading.add_argument("--plane", action="store_true", help="solve on the plane, the standard target (branch 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--time-limit", metavar="S", help="end the search after S seconds (0.01 to 1e6) with the best "
-                                                     "answer so far, marked as not proven optimal")
+    p.add_argument("--time-limit", metavar="S", default=str(TIME_LIMIT_S),
+                   help=f"end the search after S seconds (0.01 to 1e6; default {TIME_LIMIT_S:g}) with the best answer "
+                        f"so far, marked as not proven optimal (exit 1 if there is none)")
     p.add_argument("--sample", metavar="DT", help="sample the answer every DT time units, every switch and T "
                                                   "included (t, theta, omega, u, p1, p2): with --csv or --json")
     p.add_argument("--csv", metavar="FILE", help="write the samples of --sample as CSV")
@@ -109,8 +113,7 @@ def run(args):
     low, high = MISS_TOL_RANGE
     miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, f"a number from {low:g} to {high:g}",
                                                          low, high)
-    limit = None if args.time_limit is None else finite("time-limit", args.time_limit, "seconds from 0.01 to 1e6",
-                                                          0.01, 1e6)
+    limit = finite("time-limit", args.time_limit, "seconds from 0.01 to 1e6", 0.01, 1e6)
     export = Export.of(args.sample, args.csv, args.plot, args.json)
     with solver_output("stderr"):
         result = solving.solve(problem, transcription, args.solver, dict(args.option), miss_tol=miss_tol,

@@ -99,7 +99,7 @@ def test_a_start_at_the_edge_of_any_branch_gets_the_tiny_transfer(kind, k, plane
     base = make(kind, 1.0)
     theta = base.target(k)[0] + (sx * 10 ** dx if which != "omega" else 0.0)
     omega = sw * 10 ** dw if which != "theta" else 0.0
-    problem = make(kind, 10 ** log_kappa, (theta, omega), k if plane else None)
+    problem = make(kind, min(max(10 ** log_kappa, KAPPA_RANGE[0]), KAPPA_RANGE[1]), (theta, omega), k if plane else None)
     if problem.at_target() is not None:
         assert search(problem).best.T == 0.0
         return

@@ -210,15 +210,19 @@ def test_every_allowed_option_is_one_its_solver_accepts(solver):
     build(ocp.MultipleShooting(N=5), solver, options.checked(sample, solver=solver))
 
 
-def test_a_solver_the_wheel_ships_is_one_entry(monkeypatch):
+def test_a_solver_the_wheel_ships_is_one_entry(monkeypatch, capsys):
     """Uno is shipped (libcasadi_nlpsol_uno.so) but not declared: refused; one entry of SOLVERS
-    makes it a solver of ocp (available, its options checked, its NLP built)."""
+    makes it a solver of ocp (available, named in the command line's help, its options checked,
+    its NLP built)."""
+    from ocp.cli import main
     from ocp.direct.nlp import build
 
     with pytest.raises(InputError, match="not an NLP solver ocp knows"):
         options.checked({}, solver="uno")
     monkeypatch.setitem(solvers.SOLVERS, "uno", solvers.Solver())
     assert "uno" in solvers.available_solvers()
+    for command in (["solve", "--help"], ["failure-map", "--help"]):
+        assert main(command) == 0 and "uno" in " ".join(capsys.readouterr().out.split())
     with pytest.raises(InputError, match="expand"):
         options.checked({"expand": 1}, solver="uno")
     assert build(ocp.MultipleShooting(N=5), "uno", options.checked({"expand": True}, solver="uno")).n_w > 0

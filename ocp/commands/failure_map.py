@@ -36,6 +36,7 @@ def add_arguments(p):
     from ..bench.configurations import CONFIGURATIONS
     from ..core.problem import KINDS
     from ..direct import TRANSCRIPTIONS
+    from ..direct.solvers import available_solvers
 
     p.add_argument("problem", help=f"one of: {', '.join(KINDS)}")
     p.add_argument("--kappa", nargs="+", required=True,
@@ -46,7 +47,8 @@ def add_arguments(p):
     p.add_argument("--transcription", default="multiple-shooting", choices=tuple(TRANSCRIPTIONS),
                    help=f"one of {', '.join(TRANSCRIPTIONS)}; default multiple-shooting")
     add_settings(p, _n_setting(), notes={"N": f"at most {N_HIGH} here: every cell is a cold solve"})
-    p.add_argument("--solver", default="ipopt", help="a casadi.nlpsol plugin this CasADi build has, default ipopt")
+    p.add_argument("--solver", default="ipopt", help=f"an NLP solver of ocp.direct.solvers that this CasADi build "
+                                                     f"ships: {', '.join(available_solvers())}; default ipopt")
     p.add_argument("--configuration", default="default",
                    help=f"one of {', '.join(CONFIGURATIONS)} (ocp.bench.configurations), default default")
     add_window(p, (21, 15), f"starts, each from {GRID[0]} to {GRID[1]}")

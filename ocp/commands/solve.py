@@ -40,6 +40,7 @@ def _option(text):
 
 def add_arguments(p):
     from .. import direct
+    from ..direct.solvers import available_solvers
     from ..core.problem import KINDS
 
     p.add_argument("problem", help=f"one of: {', '.join(KINDS)}")
@@ -69,7 +70,9 @@ def add_arguments(p):
               for name in direct.settings()}
     add_settings(d, direct.settings(), notes={name: f"{', '.join(t)} only" for name, t in takers.items()
                                                if len(t) < len(direct.TRANSCRIPTIONS)})
-    d.add_argument("--solver", default=DEFAULTS["solver"], help="a casadi.nlpsol plugin (ipopt, fatrop, sqpmethod, ...)")
+    d.add_argument("--solver", default=DEFAULTS["solver"],
+                   help=f"an NLP solver of ocp.direct.solvers that this CasADi build ships: "
+                        f"{', '.join(available_solvers())}; default {DEFAULTS['solver']}")
     d.add_argument("--option", action="append", type=_option, default=[], metavar="KEY=VALUE",
                    help="an NLP solver option on its allow-list, typed (repeatable), e.g. ipopt.tol=1e-10")
     d.add_argument("--allow-unsafe-options", action="store_true",

@@ -398,6 +398,8 @@ def main(argv=None):
     _add_failure_map(sub)
     from .bench.command import add_commands
     add_commands(sub)
+    from .reference.command import add_commands as add_reference_commands
+    add_reference_commands(sub)
     try:
         args = parser.parse_args(argv)
         return args.run(args)

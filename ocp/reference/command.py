@@ -1,0 +1,97 @@
+"""`ocp reference` and `ocp score`: the command-line side of the reference set.
+
+    ocp reference generate [--out DIR] [--jobs N] [--only ID ...]   compute what is missing (resumed)
+    ocp reference show ID [--json]                                  one instance
+    ocp score FILE [--instance ID] [--json]                         a solution from any tool, scored
+"""
+
+import sys
+
+from ..core.errors import InputError, integer
+
+MAX_JOBS = 64
+
+
+def add_commands(sub):
+    p = sub.add_parser("reference", help="the reference set: instances with certified global optima (reference/)")
+    actions = p.add_subparsers(dest="action", required=True, parser_class=sub._parser_class)
+    g = actions.add_parser("generate", help="compute the instances not yet in the set (resumable, parallel)")
+    g.add_argument("--out", help="the folder of instances.jsonl and index.csv (default: the set's own folder)")
+    g.add_argument("--jobs", default="1", help="local worker processes, default 1")
+    g.add_argument("--only", action="append", metavar="ID", help="only this instance (repeatable)")
+    g.set_defaults(run=run_generate)
+    s = actions.add_parser("show", help="one instance of the set")
+    s.add_argument("id", help="an instance id (see reference/index.csv)")
+    s.add_argument("--json", action="store_true", help="print its JSON row")
+    s.set_defaults(run=run_show)
+    p = sub.add_parser("score", help="score a solution from any tool against its reference instance")
+    p.add_argument("file", help="a bang-bang answer (JSON), a sampled control (CSV of t,u) or ocp's own JSON")
+    p.add_argument("--instance", metavar="ID", help="the instance (needed for a CSV without an id line)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(run=run_score)
+
+
+def run_generate(args):
+    import concurrent.futures as cf
+    from pathlib import Path
+
+    from . import data, generate, instances
+
+    jobs = integer("jobs", args.jobs, f"an integer from 1 to {MAX_JOBS} (local worker processes)", 1, MAX_JOBS)
+    wanted = instances.all_instances()
+    if args.only:
+        known = {i.id: i for i in wanted}
+        unknown = [i for i in args.only if i not in known]
+        if unknown:
+            raise InputError(f"--only {unknown[0][:80]!r} is not an instance id; see reference/index.csv")
+        wanted = [known[i] for i in dict.fromkeys(args.only)]
+    out = Path(args.out) if args.out else data.folder()
+    path = out / data.INSTANCES
+    done = data.read(path)
+    todo = [i for i in wanted if i.id not in done]
+    print(f"{len(wanted) - len(todo)} of {len(wanted)} instances already in {path}; computing {len(todo)}",
+          file=sys.stderr, flush=True)
+    with cf.ProcessPoolExecutor(jobs) as pool:
+        futures = {pool.submit(generate.compute, i): i for i in todo}
+        for n, future in enumerate(cf.as_completed(futures), 1):
+            row = future.result()
+            data.append(path, row)
+            print(f"[{n}/{len(todo)}] {row['id']}: {row['status']}"
+                  f"{'' if row['status'] == 'solved' else ' (' + row['reason'] + ')'} "
+                  f"in {row['provenance']['time_s']:.1f} s", file=sys.stderr, flush=True)
+    rows = data.write_sorted(path, [i.id for i in instances.all_instances()])
+    solved = sum(r["status"] == "solved" for r in rows)
+    print(f"{solved} solved, {len(rows) - solved} skipped; {path} and {path.with_name(data.INDEX)} written")
+    return 0
+
+
+def run_show(args):
+    from ..core.output import print_json
+    from . import data
+
+    row = data.instance(args.id)
+    if args.json:
+        print_json(row)
+        return 0
+    o = row["optimum"]
+    print(f"{row['id']}: {row['kind']} on the {row['reading']}, kappa = {row['kappa']!r}, x0 = {row['x0']}")
+    print(f"T = {o['refined']['T']} (error {o['refined']['T_error']}), arcs {o['arc_signs']}, branch {o['branch']}")
+    for t, e in zip(o["refined"]["switch_times"], o["refined"]["switch_time_errors"]):
+        print(f"  switch at t = {t} (error {e})")
+    print(f"ties: {len(row['ties'])}; runner-up: "
+          + ("none" if row["runner_up"] is None else f"T = {row['runner_up']['refined']['T']} "
+                                                     f"{row['runner_up']['arc_signs']} branch {row['runner_up']['branch']}"))
+    print(f"tags: {', '.join(row['tags'])}")
+    return 0
+
+
+def run_score(args):
+    from ..core.output import print_json
+    from . import score
+
+    result = score.score(args.file, args.instance)
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        print(result.summary())
+    return 0

@@ -48,7 +48,8 @@ def run_generate(args):
     out = Path(args.out) if args.out else data.folder()
     path = out / data.INSTANCES
     done = data.read(path)
-    todo = [i for i in wanted if i.id not in done]
+    # the cheapest first (by the problem's rough time to the target), so that rows accumulate early
+    todo = sorted((i for i in wanted if i.id not in done), key=lambda i: i.problem().time_estimate)
     print(f"{len(wanted) - len(todo)} of {len(wanted)} instances already in {path}; computing {len(todo)}",
           file=sys.stderr, flush=True)
     with cf.ProcessPoolExecutor(jobs) as pool:

@@ -132,3 +132,23 @@ def write_sorted(path, order):
     write_text(Path(path).with_name(INDEX), text.getvalue())
     _cache.pop(Path(path), None)
     return ranked
+
+
+def bench_reference(problem, key):
+    """The reference record of `ocp.bench.runner.reference` for `problem` from the set (its refined T and
+    switch times, every extremal before the set's horizon), or None where the set lacks the problem."""
+    row = lookup(problem)
+    if row is None:
+        return None
+    o = row["optimum"]
+    return {"problem": key, "T": float(o["refined"]["T"]), "T_error": float(o["refined"]["T_error"]),
+            "arc_signs": list(o["arc_signs"]), "switch_times": [float(t) for t in o["refined"]["switch_times"]],
+            "branch": o["branch"], "optimal": True, "ties": [_plain(t) for t in row["ties"]],
+            "extremals": [_plain(e) for e in row["extremals"]], "horizon": row["coverage"]["horizon"],
+            "source": f"the reference set ({row['id']}: complete search, refined at "
+                      f"{o['refined']['digits'][-1]} digits)", "time_s": 0.0}
+
+
+def _plain(e):
+    return {"arc_signs": e["arc_signs"], "branch": e["branch"], "T": e["T"], "T_error": e["T_error"],
+            "switch_times": e["switch_times"]}

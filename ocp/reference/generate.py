@@ -7,7 +7,7 @@ For one instance (`compute`, run in a worker process):
                   certified (`ocp.indirect.certify`)
     local optima  every extremal certified too: first order, strict bang-bang and a positive definite
                   reduced Hessian make it a strict strong local minimum (a trap for a local method)
-    refinement    the optimum, its ties and the runner-up solved again at 32 and 40 digits by
+    refinement    the optimum and its ties solved again at 32 and 40 digits by
                   `ocp.reference.multiprecision` (nothing shared with the search's integrator), the
                   40-digit values stored as decimal text with their error bounds; the double-precision
                   answer must agree within its stated error (`agreement` <= 1)
@@ -31,7 +31,6 @@ from . import multiprecision as mp_route
 MARGIN = 1.0
 #: an instance whose search exceeds this is skipped (recorded with the reason)
 BUDGET_S = 120
-#: significant digits written for a refined value beyond those its error defends are not written
 COMMAND = "python -m ocp reference generate --jobs 2"
 #: relative gap to the runner-up under which an instance is tagged near-tie
 NEAR_TIE = 1e-6
@@ -98,12 +97,14 @@ def _extremal(e, certified=None):
     return d
 
 
+def _structure(e):
+    """An extremal with its switch states and costate (double precision)."""
+    return dict(_extremal(e), switch_states=[list(s) for s in e.switch_states], p0=list(e.p0), costate_angle=e.phi)
+
+
 def _solution(problem, e):
-    """The record of an optimal (or runner-up) extremal: structure, double-precision values, refined ones."""
-    d = dict(_extremal(e), switch_states=[list(s) for s in e.switch_states], p0=list(e.p0), costate_angle=e.phi)
-    d["double"] = {"T": e.T, "T_error": e.T_error}
-    d["refined"] = _refined(problem, e)
-    return d
+    """The record of an optimal extremal: structure, double-precision values, refined ones."""
+    return dict(_structure(e), double={"T": e.T, "T_error": e.T_error}, refined=_refined(problem, e))
 
 
 def versions():
@@ -141,7 +142,7 @@ def compute(instance):
     optimum = _solution(problem, sol.answer)
     optimum["certificate"] = sol.certificate.to_dict()
     ties = [_solution(problem, t) for t in sol.ties]
-    runner = None if sol.runner_up is None else _solution(problem, sol.runner_up)
+    runner = None if sol.runner_up is None else _structure(sol.runner_up)
     durations = sol.answer.durations
     gap = None if sol.runner_up is None else (sol.runner_up.T - sol.answer.T) / sol.answer.T
     others = [_extremal(e, flag) for e, flag in zip(sol.extremals, local)]

@@ -40,8 +40,8 @@ RTOL = 1e-13
 CHECK_RTOL = 1e-11
 #: the largest distance of x(T) from the target accepted, in (theta, omega)
 MISS_TOL = 1e-6
-#: |u| may exceed 1 by this much (rounding of a solver's output)
-BOUND_TOL = 1e-9
+#: |u| may exceed 1 by this much (an interior-point solver relaxes its bounds by about 1e-8), then is clipped
+BOUND_TOL = 1e-6
 MAX_BYTES = 20_000_000
 MAX_ROWS = 1_000_000
 

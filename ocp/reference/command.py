@@ -52,8 +52,13 @@ def run_generate(args):
     todo = sorted((i for i in wanted if i.id not in done), key=lambda i: i.problem().time_estimate)
     print(f"{len(wanted) - len(todo)} of {len(wanted)} instances already in {path}; computing {len(todo)}",
           file=sys.stderr, flush=True)
+    again = [r for r in done.values() if generate.stale(r)]
+    if again:
+        print(f"{len(again)} rows refined again (their refinement predates the current one)", file=sys.stderr)
     with cf.ProcessPoolExecutor(jobs) as pool:
-        futures = {pool.submit(generate.compute, i): i for i in todo}
+        futures = {pool.submit(generate.refine_again, r): r for r in again}
+        futures.update({pool.submit(generate.compute, i): i for i in todo})
+        todo = again + todo
         for n, future in enumerate(cf.as_completed(futures), 1):
             row = future.result()
             data.append(path, row)

@@ -67,11 +67,15 @@ def decimal(value, error):
     return text, mpmath.nstr(err, 2, min_fixed=1, max_fixed=0)
 
 
+#: what the refinement takes as exact (a row without this text is refined again)
+INPUTS = "x0 and kappa: the decimals written; the target: (2k + 1) pi (swing-up) or 2k pi (damping), exact"
+
+
 def _refined(problem, extremal):
     """The refined record of an extremal: 40-digit values as text with their errors, and the agreement
     |T_mp - T_double| / T_error of the search."""
-    r = mp_route.refine(problem.x0, problem.kappa, extremal.signs, problem.target(extremal.branch)[0],
-                        extremal.phi, extremal.durations)
+    target_over_pi = round(problem.base / math.pi) + 2 * extremal.branch
+    r = mp_route.refine(problem.x0, problem.kappa, extremal.signs, target_over_pi, extremal.phi, extremal.durations)
     T, T_err = decimal(r.T, r.T_error)
     return {
         "T": T, "T_error": T_err,
@@ -83,7 +87,7 @@ def _refined(problem, extremal):
         "p0": [decimal(v, e)[0] for v, e in zip(r.p0, r.p0_errors)],
         "p0_errors": [decimal(v, e)[1] for v, e in zip(r.p0, r.p0_errors)],
         "costate_angle": decimal(r.phi, r.phi_error)[0],
-        "digits": list(r.digits), "taylor_steps": r.steps,
+        "digits": list(r.digits), "taylor_steps": r.steps, "inputs": INPUTS,
         "agreement": float(abs(r.T - mpmath.mpf(extremal.T)) / extremal.T_error),
     }
 
@@ -165,3 +169,28 @@ def compute(instance):
                           "description": sol.coverage.describe()},
                 provenance=dict(provenance, time_s=time.perf_counter() - start,
                                 search_time_s=sol.search_time_s))
+
+
+def stale(row):
+    """Whether a solved row's refinement predates INPUTS (then `refine_again` redoes it)."""
+    return row["status"] == "solved" and row["optimum"]["refined"].get("inputs") != INPUTS
+
+
+def refine_again(row):
+    """The row with the refinement of its optimum and ties redone from their stored costate angle and
+    arc durations (no search)."""
+    from types import SimpleNamespace
+
+    from ..core.problem import make
+
+    problem = make(row["kind"], row["kappa"], row["x0"], row["branch_pinned"])
+    start = time.perf_counter()
+
+    def redo(e):
+        times = (0.0, *e["switch_times"], e["T"])
+        extremal = SimpleNamespace(signs=tuple(e["arc_signs"]), branch=e["branch"], phi=e["costate_angle"], T=e["T"],
+                                   T_error=e["T_error"], durations=tuple(b - a for a, b in zip(times, times[1:])))
+        return dict(e, refined=_refined(problem, extremal))
+
+    provenance = dict(row["provenance"], refined_again_s=time.perf_counter() - start, refined_commit=git_commit())
+    return dict(row, optimum=redo(row["optimum"]), ties=[redo(t) for t in row["ties"]], provenance=provenance)

@@ -205,22 +205,24 @@ def _floor(value, difference, digits):
     return max(abs(difference), mpmath.mpf(10) ** -digits * max(1, abs(value)))
 
 
-def refine(x0, kappa, signs, target, phi, durations):
-    """The Refined extremal with arc `signs` from x0 to (target, 0) for bound kappa, from the
-    double-precision costate angle `phi` and arc `durations`. NotConverged if Newton fails at either
-    precision; ValueError for fewer than two arcs (a single arc has no costate to solve for)."""
+def refine(x0, kappa, signs, target_over_pi, phi, durations):
+    """The Refined extremal with arc `signs` from x0 to (target_over_pi * pi, 0) for bound kappa (x0 and
+    kappa the decimals of their shortest representation, repr(float), taken exactly; the target an exact
+    multiple of pi), from the double-precision costate angle `phi` and arc `durations`. NotConverged if
+    Newton fails at either precision; ValueError for fewer than two arcs (a single arc has no costate)."""
     if len(signs) < 2:
         raise ValueError("the refinement needs at least one switch")
-    x0 = [mpmath.mpf(x0[0]), mpmath.mpf(x0[1])]
+    exact = lambda v: mpmath.mpf(repr(float(v)))
     results = []
     for digits in (DIGITS, CHECK_DIGITS):
         mpmath.mp.prec = Precision(digits).bits + 32
-        z, starts, steps = _solve(Precision(digits), x0, mpmath.mpf(kappa), tuple(int(s) for s in signs),
-                                  mpmath.mpf(target), [phi, *durations])
+        x0_mp, kappa_mp = [exact(x0[0]), exact(x0[1])], exact(kappa)
+        z, starts, steps = _solve(Precision(digits), x0_mp, kappa_mp, tuple(int(s) for s in signs),
+                                  int(target_over_pi) * mpmath.pi, [phi, *durations])
         phi_z, d = z[0], z[1:]
         times = [sum(d[:j + 1]) for j in range(len(d))]
         u0 = signs[0]
-        scale = x0[1] * mpmath.cos(phi_z) + (kappa * u0 - mpmath.sin(x0[0])) * mpmath.sin(phi_z)
+        scale = x0_mp[1] * mpmath.cos(phi_z) + (kappa_mp * u0 - mpmath.sin(x0_mp[0])) * mpmath.sin(phi_z)
         results.append(dict(T=times[-1], times=times[:-1], states=[(s[0], s[1]) for s in starts[1:-1]],
                             p0=(mpmath.cos(phi_z) / scale, mpmath.sin(phi_z) / scale), phi=phi_z, steps=steps))
     low, high = results

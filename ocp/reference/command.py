@@ -65,7 +65,7 @@ def run_generate(args):
             print(f"[{n}/{len(todo)}] {row['id']}: {row['status']}"
                   f"{'' if row['status'] == 'solved' else ' (' + row['reason'] + ')'} "
                   f"in {row['provenance']['time_s']:.1f} s", file=sys.stderr, flush=True)
-    rows = data.write_sorted(path, [i.id for i in instances.all_instances()])
+    rows = data.write_sorted(path, [i.id for i in instances.all_instances()], generate.relabelled)
     solved = sum(r["status"] == "solved" for r in rows)
     print(f"{solved} solved, {len(rows) - solved} skipped; {path} and {path.with_name(data.INDEX)} written")
     return 0

@@ -117,10 +117,10 @@ def index_row(row):
     return out
 
 
-def write_sorted(path, order):
-    """Rewrite the JSON lines at `path` in the order of the ids `order` (ids not in it last), and the
-    index.csv beside it."""
-    rows = read(path)
+def write_sorted(path, order, transform=lambda row: row):
+    """Rewrite the JSON lines at `path` in the order of the ids `order` (ids not in it last), each row
+    through `transform`, and the index.csv beside it."""
+    rows = {i: transform(r) for i, r in read(path).items()}
     position = {i: n for n, i in enumerate(order)}
     ranked = sorted(rows.values(), key=lambda r: position.get(r["id"], len(position)))
     write_text(path, "".join(json.dumps(r) + "\n" for r in ranked))

@@ -31,7 +31,7 @@ from . import multiprecision as mp_route
 MARGIN = 1.0
 #: an instance whose search exceeds this is skipped (recorded with the reason)
 BUDGET_S = 120
-COMMAND = "python -m ocp reference generate --jobs 2"
+COMMAND = "ocp reference generate --jobs 2"
 #: relative gap to the runner-up under which an instance is tagged near-tie
 NEAR_TIE = 1e-6
 
@@ -111,6 +111,19 @@ def _solution(problem, e):
     return dict(_structure(e), double={"T": e.T, "T_error": e.T_error}, refined=_refined(problem, e))
 
 
+def labels(families, hardness):
+    """The tags of a solved instance: its families, and "tie" (several optimal controls), "near-tie"
+    (the runner-up within NEAR_TIE relative), "local-optima" (a slower extremal is a strict local
+    minimum), "many-switches" (4 or more)."""
+    out = list(families)
+    gap = hardness["relative_gap_to_runner_up"]
+    out += ["tie"] if hardness["ties"] else []
+    out += ["near-tie"] if gap is not None and gap < NEAR_TIE else []
+    out += ["local-optima"] if hardness["local_optima"] else []
+    out += ["many-switches"] if hardness["switches"] >= 4 else []
+    return out
+
+
 def versions():
     import numba
     import numpy
@@ -155,15 +168,8 @@ def compute(instance):
             "extremals": len(sol.extremals), "shortest_arc": float(min(durations)),
             "distance_to_switching_curve": None, "distance_to_dispersal_curve": None,
             "distances": "not computed (the shortest arc and the gap to the runner-up stand for them)"}
-    labels = list(instance.families)
-    if sol.ties or (gap is not None and gap < NEAR_TIE):
-        labels.append("near-tie")
-    if tags["local_optima"]:
-        labels.append("local-optima")
-    if tags["switches"] >= 4:
-        labels.append("many-switches")
     return dict(row, status="solved", optimum=optimum, ties=ties, runner_up=runner, extremals=others,
-                tags=labels, hardness=tags,
+                tags=labels(instance.families, tags), hardness=tags,
                 coverage={"complete": sol.coverage.complete, "horizon": sol.coverage.horizon,
                           "extremals_integrated": sol.coverage.extremals,
                           "description": sol.coverage.describe()},
@@ -184,7 +190,6 @@ def refine_again(row):
     from ..core.problem import make
 
     problem = make(row["kind"], row["kappa"], row["x0"], row["branch_pinned"])
-    start = time.perf_counter()
 
     def redo(e):
         times = (0.0, *e["switch_times"], e["T"])
@@ -192,5 +197,18 @@ def refine_again(row):
                                    T_error=e["T_error"], durations=tuple(b - a for a, b in zip(times, times[1:])))
         return dict(e, refined=_refined(problem, extremal))
 
-    provenance = dict(row["provenance"], refined_again_s=time.perf_counter() - start, refined_commit=git_commit())
-    return dict(row, optimum=redo(row["optimum"]), ties=[redo(t) for t in row["ties"]], provenance=provenance)
+    optimum, ties = redo(row["optimum"]), [redo(t) for t in row["ties"]]
+    provenance = dict(row["provenance"], refined_again_commit=git_commit())
+    return dict(row, optimum=optimum, ties=ties, provenance=provenance)
+
+
+def relabelled(row):
+    """The row with its tags recomputed by `labels` and its provenance's command as COMMAND (rows written
+    by an earlier version of this module: other tags, a command misspelt, a timing of the refinement
+    done again that measured nothing)."""
+    provenance = {k: v for k, v in row["provenance"].items() if k != "refined_again_s"}
+    provenance["command"] = COMMAND
+    if "refined_commit" in provenance:
+        provenance["refined_again_commit"] = provenance.pop("refined_commit")
+    row = dict(row, provenance=provenance)
+    return row if row["status"] != "solved" else dict(row, tags=labels(row["families"], row["hardness"]))

@@ -30,7 +30,7 @@ from . import multiprecision as mp_route
 #: the search scans to (1 + MARGIN) times the optimum: the runner-up and the traps up to twice it
 MARGIN = 1.0
 #: an instance whose search exceeds this is skipped (recorded with the reason)
-BUDGET_S = 120
+BUDGET_S = 60
 COMMAND = "ocp reference generate --jobs 2"
 #: relative gap to the runner-up under which an instance is tagged near-tie
 NEAR_TIE = 1e-6

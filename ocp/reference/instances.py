@@ -7,7 +7,7 @@ families that make the set (every number in an id is the number the instance use
     attaining-state  the state attaining kappa_n, at kappa_n: two extremals tie there
     plane            the standard start on the plane (target branch 0 pinned)
     random           seeded starts |theta0| <= pi, |omega0| <= 4 (4 decimals), kappa log-uniform in
-                     [0.25, 4] (3 significant digits)
+                     [0.25, 4] (3 significant digits), and more (a second seed) with kappa in [1, 5]
     fast             seeded starts |theta0| <= pi, 4 < |omega0| <= 20
     near-dispersal   (DELTA, 0) for swing-up and (pi + DELTA, 0) for damping: next to the start whose two
                      mirror-image optima tie, so two optima lie within 1e-6 of each other
@@ -66,12 +66,12 @@ def _bifurcations():
     return [(r["kind"], r["n"], r["kappa"], tuple(r["state"])) for r in stored().values() if r["reading"] == "circle"]
 
 
-def _random(rng, kind, count, omega_low, omega_high, family):
+def _random(rng, kind, count, omega_low, omega_high, family, kappas=(0.25, 4)):
     out = []
     for _ in range(count):
         theta0 = round(float(rng.uniform(-math.pi, math.pi)), 4)
         omega0 = round(float(rng.choice((-1, 1)) * rng.uniform(omega_low, omega_high)), 4)
-        kappa = float(f"{math.exp(rng.uniform(math.log(0.25), math.log(4))):.3g}")
+        kappa = float(f"{math.exp(rng.uniform(*np.log(kappas))):.3g}")
         out.append(_instance(kind, kappa, (theta0, omega0), None, (family,)))
     return out
 
@@ -97,6 +97,9 @@ def all_instances():
         out += _random(rng, kind, 24, 0.0, 4.0, "random")
     for kind in ("swing-up", "damping"):
         out += _random(rng, kind, 10, 4.0, 20.0, "fast")
+    rng = np.random.default_rng(SEED + 1)
+    for kind in ("swing-up", "damping"):
+        out += _random(rng, kind, 24, 0.0, 4.0, "random", (1, 5))
     for kappa in (0.3, 0.5, 0.75, 1.0, 2.0, 5.0):
         out.append(_instance("swing-up", kappa, (DELTA, 0.0), None, ("near-dispersal",)))
         out.append(_instance("damping", kappa, (math.pi + DELTA, 0.0), None, ("near-dispersal",),

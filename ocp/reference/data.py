@@ -92,11 +92,9 @@ def lookup(problem, path=None):
 
 def append(path, row):
     """One row appended to the JSON lines at `path` (an interruption keeps the rows before it)."""
-    try:
-        with open(path, "a", encoding="utf-8") as f:
-            f.write(json.dumps(row) + "\n")
-    except OSError as err:
-        raise Fault(f"cannot write {path}: {err}") from None
+    from ..synthesis.results import append as append_line
+
+    append_line(path, row)
     _cache.pop(Path(path), None)
 
 

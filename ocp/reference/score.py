@@ -251,35 +251,31 @@ def read(path, instance=None):
     return _csv(text, path, instance)
 
 
-def _flow(x, u, h, rtol):
+def _flow(x, u, h, kappa, rtol):
     """x after time h under u: a constant, or (u_a, u_b) linear over the interval."""
     if h <= 0:
         return np.asarray(x, float)
-    f = (lambda s, y: model.rhs(y, u, kappa[0])) if np.isscalar(u) else \
-        (lambda s, y: model.rhs(y, u[0] + (u[1] - u[0]) * s / h, kappa[0]))
+    f = (lambda s, y: model.rhs(y, u, kappa)) if np.isscalar(u) else \
+        (lambda s, y: model.rhs(y, u[0] + (u[1] - u[0]) * s / h, kappa))
     sol = solve_ivp(f, (0.0, h), np.asarray(x, float), method="DOP853", rtol=rtol, atol=rtol)
     return sol.y[:, -1]
 
 
-kappa = [1.0]
-
-
 def _simulate(control, x0, k, rtol):
     """x(T) of the control, and its bang-bang reading (signs, switch times, bang_bang)."""
-    kappa[0] = k
     from ..direct.structure import read as structure
 
     if control.kind == "bang-bang":
         ends = [float(v) for v in control.switch_times] + [float(control.T)]
         x, start = np.asarray(x0, float), 0.0
         for s, end in zip(control.arc_signs, ends):
-            x, start = _flow(x, float(s), end - start, rtol), end
+            x, start = _flow(x, float(s), end - start, k, rtol), end
         return x, control.arc_signs, tuple(float(v) for v in control.switch_times), True
     t, u = np.array(control.t), np.array(control.u)
     nodes = [np.asarray(x0, float)]
     for i in range(len(t) - 1):
         piece = u[i] if control.kind == "constant" else (u[i], u[i + 1])
-        nodes.append(_flow(nodes[-1], piece, t[i + 1] - t[i], rtol))
+        nodes.append(_flow(nodes[-1], piece, t[i + 1] - t[i], k, rtol))
     means = u[:-1] if control.kind == "constant" else 0.5 * (u[:-1] + u[1:])
     s = structure(t, np.array(nodes), means, k)
     return nodes[-1], s.arc_signs, s.switch_times, s.bang_bang

@@ -72,6 +72,7 @@ def run_generate(args):
 
 
 def run_show(args):
+    from ..core.numbers import digits
     from ..core.output import print_json
     from . import data
 
@@ -85,7 +86,7 @@ def run_show(args):
     for t, e in zip(o["refined"]["switch_times"], o["refined"]["switch_time_errors"]):
         print(f"  switch at t = {t} (error {e})")
     print(f"ties: {len(row['ties'])}; runner-up: "
-          + ("none" if row["runner_up"] is None else f"T = {row['runner_up']['refined']['T']} "
+          + ("none" if row["runner_up"] is None else f"T = {digits(row['runner_up']['T'], row['runner_up']['T_error'])} "
                                                      f"{row['runner_up']['arc_signs']} branch {row['runner_up']['branch']}"))
     print(f"tags: {', '.join(row['tags'])}")
     return 0

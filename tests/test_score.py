@@ -108,6 +108,7 @@ BAD = {
     "signs.json": json.dumps({"instance": ID, "arc_signs": [1, 1], "switch_times": [1.0], "T": 2.0}),
     "count.json": json.dumps({"instance": ID, "arc_signs": [1, -1], "switch_times": [], "T": 2.0}),
     "order.json": json.dumps({"instance": ID, "arc_signs": [1, -1], "switch_times": [3.0], "T": 2.0}),
+    "long.json": json.dumps({"instance": ID, "arc_signs": [1, -1], "switch_times": [1.0], "T": 1e6}),
     "header.csv": f"# instance: {ID}\ntime,control\n0,1\n1,1\n",
     "bound.csv": f"# instance: {ID}\nt,u\n0,1.5\n1,1\n2,1\n",
     "order.csv": f"# instance: {ID}\nt,u\n0,1\n2,1\n1,1\n",

@@ -43,6 +43,8 @@ MISS_TOL = 1e-6
 #: |u| may exceed 1 by this much (an interior-point solver relaxes its bounds by about 1e-8), then is clipped
 BOUND_TOL = 1e-6
 MAX_BYTES = 20_000_000
+#: the longest control re-simulated (every optimum of the set takes less than 100)
+MAX_T = 1000.0
 MAX_ROWS = 1_000_000
 
 
@@ -289,6 +291,8 @@ def score(source, instance=None, path=None):
         control = Control(**{**control.__dict__, "instance": instance})
     if not control.instance:
         raise InputError(f"{source}: no instance id: give --instance ID or name it in the file")
+    if not 0 < control.T <= Decimal(MAX_T):
+        raise InputError(f"T = {float(control.T):g}: accepted 0 < T <= {MAX_T:g}")
     row = data.instance(control.instance, path)
     from ..core.problem import make
 

@@ -3,6 +3,7 @@ theta'' + sin(theta) = kappa*u, |u| <= 1 (see `ocp.core.model` for the conventio
 
     ocp.solve(ocp.swing_up(0.75))                     the minimum time, from the complete search
     ocp.solve(problem, ocp.MultipleShooting(N=200))   and a direct transcription classified against it
+    ocp.score("answer.json")                          a solution from any tool against the reference set
 
 Names are loaded on first use, so that `import ocp` (and `ocp --help`) stays light.
 """
@@ -12,7 +13,7 @@ import importlib
 _EXPORTS = {
     "Problem": "ocp.core.problem", "swing_up": "ocp.core.problem", "damping": "ocp.core.problem",
     "MultipleShooting": "ocp.direct", "DirectCollocation": "ocp.direct", "Guess": "ocp.direct",
-    "solve": "ocp.solving", "Solution": "ocp.result", "SolveStatus": "ocp.result", "DirectClass": "ocp.result",
+    "solve": "ocp.solving", "score": "ocp.reference.score", "Solution": "ocp.result", "SolveStatus": "ocp.result", "DirectClass": "ocp.result",
 }
 __all__ = list(_EXPORTS)
 

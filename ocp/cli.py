@@ -21,13 +21,13 @@ import sys
 import threading
 
 from .bench import command as bench
-from .commands import failure_map, figures, solve, synthesis, verify
+from .commands import failure_map, figures, reference, solve, synthesis, verify
 from .core.arguments import Parser
 from .core.errors import Fault, InputError
 from .core.output import printable
 
 #: the command modules, in the order of `ocp --help`
-COMMANDS = (solve, verify, figures, synthesis, failure_map, bench)
+COMMANDS = (solve, verify, figures, synthesis, failure_map, bench, reference)
 
 
 class _Version(argparse.Action):

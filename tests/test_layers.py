@@ -1,7 +1,9 @@
 """The layers of ARCHITECTURE.md: a module imports only from its own package and the layers below.
-And the package data: a wheel installed into a fresh virtual environment finds its papers and suites."""
+And the package data: a wheel installed into a fresh virtual environment finds its papers, suites and
+the reference set (and `ocp score` works there)."""
 
 import ast
+import json
 import os
 import subprocess
 import sys
@@ -13,7 +15,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "ocp"
 #: bottom to top; a module of layer L may import layers < L and its own package
 LAYERS = [{"core"}, {"exact", "scenes"}, {"direct", "indirect", "sampling"}, {"result"}, {"solving"}, {"synthesis"},
-          {"papers"}, {"bench"}, {"figures"}, {"commands"}, {"cli"}]
+          {"papers", "reference"}, {"bench"}, {"figures"}, {"commands"}, {"cli"}]
 
 
 def layer(part):
@@ -88,3 +90,16 @@ def test_the_wheel_carries_its_data(tmp_path):
     suites = subprocess.run([str(python), "-c", "from ocp.bench import suite; print(len(suite.load('quick').pairs()))"],
                             capture_output=True, text=True, cwd=tmp_path)
     assert int(suites.stdout) > 0
+    # the reference set, read from the wheel's share/ocp/reference, and `ocp score` against it
+    count = subprocess.run([str(python), "-c", "from ocp.reference import data; print(data.folder()); "
+                            "print(sum(r['status'] == 'solved' for r in data.load().values()))"],
+                           capture_output=True, text=True, cwd=tmp_path)
+    folder, solved = count.stdout.split()
+    assert str(env_dir) in folder and int(solved) >= 200
+    row = next(r for r in map(json.loads, (ROOT / "reference" / "instances.jsonl").open()) if r["status"] == "solved")
+    answer = tmp_path / "answer.json"
+    answer.write_text(json.dumps({"instance": row["id"], "arc_signs": row["optimum"]["arc_signs"],
+                                  "switch_times": row["optimum"]["refined"]["switch_times"],
+                                  "T": row["optimum"]["refined"]["T"]}))
+    scored = run("score", str(answer), "--json")
+    assert scored.returncode == 0 and json.loads(scored.stdout)["class"] == "optimum"

@@ -1,11 +1,13 @@
 """The reference of a case: the optimum of its problem from `ocp.solve`'s complete search of
 extremals (independent of every direct method scored), scanned to (1 + REFERENCE_MARGIN) times the
 optimum so that slower direct answers are classified; T replaced by Finch's formula where one
-applies to its structure and agrees within AGREE."""
+applies to its structure and agrees within AGREE; read from the reference set (`ocp.reference`,
+its T and switch times refined at 40 digits) where the set holds the problem, not searched again."""
 
 import time
 
 from ..core.errors import last_line
+from ..reference import lookup
 from ..solving import solve
 from .row import Extremal, Reference
 
@@ -24,10 +26,34 @@ def _extremal(e):
                     T=float(e.T))
 
 
+def _stored(e):
+    return Extremal(signs=tuple(int(s) for s in e["arc_signs"]), branch=e["branch"], T=float(e["T"]))
+
+
+def from_the_set(problem, key):
+    """The Reference of `problem` from the reference set (its refined T and switch times, every
+    extremal before the set's horizon), or None where the set lacks the problem."""
+    row = lookup(problem)
+    if row is None:
+        return None
+    o = row["optimum"]
+    return Reference(problem=key, T=float(o["refined"]["T"]), T_error=float(o["refined"]["T_error"]),
+                     source=f"the reference set ({row['id']}: complete search, refined at "
+                            f"{o['refined']['digits'][-1]} digits)",
+                     arc_signs=tuple(int(s) for s in o["arc_signs"]), branch=o["branch"], optimal=True,
+                     switch_times=tuple(float(t) for t in o["refined"]["switch_times"]),
+                     ties=tuple(map(_stored, row["ties"])), extremals=tuple(map(_stored, row["extremals"])),
+                     horizon=float(row["coverage"]["horizon"]))
+
+
 def reference(case):
-    """The Reference of case.problem(): the search's optimum, its ties and every extremal found;
-    `source` says where T comes from (or why there is none)."""
+    """The Reference of case.problem(): from the reference set where it holds the problem, else the
+    search's optimum, its ties and every extremal found; `source` says where T comes from (or why
+    there is none)."""
     problem = case.problem()
+    stored = from_the_set(problem, case.problem_key)
+    if stored is not None:
+        return stored
     start = time.perf_counter()
     try:
         sol = solve(problem, margin=REFERENCE_MARGIN)

@@ -136,7 +136,7 @@ PLAUSIBLE = ["1", "0.5", "2", "20", "swing-up", "damping", "quick", "ok.toml", "
 def values(action):
     """A strategy of the tokens `action` takes: its choices, its default, numbers and any text, as
     many as its nargs asks (sometimes one too few or too many)."""
-    count = {None: 1, "?": 1, "*": 2, "+": 2, argparse.REMAINDER: 1}.get(action.nargs, action.nargs)
+    count = {None: 1, "?": 1, "*": 2, "+": 2, argparse.REMAINDER: 1, argparse.PARSER: 1}.get(action.nargs, action.nargs)
     pool = [st.sampled_from(NUMBERS), st.sampled_from(PLAUSIBLE), st.text(st.characters(blacklist_characters="\0"),
                                                                            max_size=8)]
     pool += [st.sampled_from([str(c) for c in action.choices])] if action.choices else []
@@ -153,8 +153,9 @@ def command_line(draw):
     argv = [name]
     for action in [a for a in actions if not a.option_strings]:
         argv += draw(values(action))
-    required = [a for a in actions if a.option_strings and a.required]
-    for action in required + draw(st.lists(st.sampled_from([a for a in actions if a.option_strings]), max_size=4)):
+    flags = [a for a in actions if a.option_strings]
+    required = [a for a in flags if a.required]
+    for action in required + (draw(st.lists(st.sampled_from(flags), max_size=4)) if flags else []):
         argv.append(draw(st.sampled_from(action.option_strings)))
         argv += draw(values(action))
     return draw(st.sampled_from([argv, argv + [draw(st.sampled_from(FLAGS))]]))

@@ -602,7 +602,8 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
     problem.time_estimate (or
     from `horizon`, e.g. a feasible time known) until an arrival
     is found, then once more to the best time times (1 + margin) if the scan stopped short of it and
-    found no runner-up. A start at rest in the upper half with the target below is scanned
+    (with margin <= MARGIN, whose purpose is the runner-up) found no runner-up: a wider margin (the
+    bench's references, the reference set) asks for every arrival before (1 + margin) times the best. A start at rest in the upper half with the target below is scanned
     backwards in time (`_Backward`), a symmetric one (`_center`) over one half-circle and mirrored.
 
     time_limit: seconds; when they pass, the best arrival so far is returned, status "stopped" (not
@@ -639,7 +640,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
             wanted = arrivals[0].T * (1 + margin) / (1 - HORIZON_BAND)
             runner_up = any(a.T > arrivals[0].T * (1 + TIE_WINDOW) + 10 * (a.T_error + arrivals[0].T_error)
                             for a in arrivals)
-            if horizon >= wanted or runner_up:
+            if horizon >= wanted or (runner_up and margin <= MARGIN):  # a wider margin asks for every arrival
                 return Search(tuple(arrivals), coverage, tuple(notes))
             notes.append(f"scanned to {horizon:.4g}, extended to {wanted:.4g} for the runner-up")
             done = (tuple(arrivals), coverage)

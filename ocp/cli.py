@@ -19,6 +19,7 @@ import os
 import signal
 import sys
 import threading
+import time
 
 from .bench import command as bench
 from .commands import failure_map, figures, reference, solve, synthesis, verify
@@ -94,13 +95,14 @@ def _interruptible(hard):
         try:
             while os.read(woken, 1) != bytes([signal.SIGINT]):
                 pass
-            if stopped.wait(INTERRUPT_GRACE / 2) and not hard:
-                return
-            _thread.interrupt_main()                    # once: a second one could cut a command's own cleanup
-            if stopped.wait(INTERRUPT_GRACE / 2) and not hard:
-                return
-            os.write(stderr, b"interrupted\n")
-            os._exit(130)
+            if not stopped.wait(INTERRUPT_GRACE / 2):
+                _thread.interrupt_main()                # once: a second one could cut a command's own cleanup
+                if not stopped.wait(INTERRUPT_GRACE / 2):
+                    os.write(stderr, b"interrupted\n")   # still inside compiled code: ended here
+                    os._exit(130)
+            if hard:                                    # the command ended; should the interpreter's own exit
+                time.sleep(INTERRUPT_GRACE)             # hang (a pool joining a stuck worker), it is ended
+                os._exit(130)
         finally:
             os.close(woken)
             os.close(stderr)
@@ -117,6 +119,17 @@ def _interruptible(hard):
             os.write(wake, bytes([signal.SIGINT]))
             watcher.join()
             os.close(wake)
+
+
+def _interrupted(err):
+    """Whether a KeyboardInterrupt is among the causes of `err`."""
+    seen = set()
+    while err is not None and id(err) not in seen:
+        if isinstance(err, KeyboardInterrupt):
+            return True
+        seen.add(id(err))
+        err = err.__cause__ or err.__context__
+    return False
 
 
 def main(argv=None):
@@ -155,6 +168,11 @@ def _main(argv):
               f"{printable(err.strerror)}", file=sys.stderr)
         _quiet_stdout()
         return 1
+    except Exception as err:         # an interrupt that a library turned into its own error (numba: SystemError)
+        if not _interrupted(err):
+            raise
+        print("interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

@@ -114,7 +114,7 @@ def watched(progress=None):
     watch = Watch(progress)
     done = threading.Event()
     restore = _take_sigint(watch)
-    wake = restore[2][0] if restore else None
+    wake = restore[2][0] if restore and restore[2] else None
     thread = threading.Thread(target=_watcher, args=(watch, done, wake), daemon=True)
     previous, _current = _current, watch
     thread.start()
@@ -126,34 +126,37 @@ def watched(progress=None):
         thread.join()
         _current = previous
         if restore:
-            handler, old_fd, (read, write) = restore
-            signal.set_wakeup_fd(old_fd)
+            handler, old_fd, pipe = restore
             signal.signal(signal.SIGINT, handler)
-            os.close(read)
-            os.close(write)
+            if pipe:
+                signal.set_wakeup_fd(old_fd)
+                os.close(pipe[0])
+                os.close(pipe[1])
 
 
 def _take_sigint(watch):
-    """Install the SIGINT flag and a wake-up pipe: (old handler, old wake-up fd, (read, write)), or
-    None where interrupts are not ours to watch."""
+    """Install the SIGINT flag and, where the wake-up descriptor is free, a wake-up pipe: (old
+    handler, old wake-up fd, (read, write) or None), or None where interrupts are not ours to watch.
+    Where the descriptor is taken (the command line watches it too, `ocp.cli`), the flag is still
+    set by the handler, which runs at the solver's next iteration callback."""
     if threading.current_thread() is not threading.main_thread() or \
             signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
         return None
     read, write = os.pipe()
     os.set_blocking(write, False)
-    old_fd = signal.set_wakeup_fd(write)
-    if old_fd != -1:                    # someone else's descriptor: leave it
+    old_fd, pipe = signal.set_wakeup_fd(write), (read, write)
+    if old_fd != -1:                    # someone else's descriptor: it stays theirs
         signal.set_wakeup_fd(old_fd)
         os.close(read)
         os.close(write)
-        return None
+        pipe = None
 
     def handler(signum, frame):
         if watch.interrupted is None:
             watch.interrupted = time.perf_counter()
         raise KeyboardInterrupt("interrupted")
 
-    return signal.signal(signal.SIGINT, handler), old_fd, (read, write)
+    return signal.signal(signal.SIGINT, handler), old_fd, pipe
 
 
 def _watcher(watch, done, wake):

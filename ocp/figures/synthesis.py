@@ -57,7 +57,8 @@ def born_states(s):
 
     w, out = s.window, []
     for row in stored().values():
-        if (row["kind"], row["reading"]) != (s.kind, s.reading) or abs(row["kappa"] - s.kappa) > 0.05:
+        if (row["kind"], row["reading"]) != (s.kind, s.reading) or row["kappa"] is None or \
+                abs(row["kappa"] - s.kappa) > 0.05:
             continue
         theta, omega = row["state"]
         if s.reading == "circle":

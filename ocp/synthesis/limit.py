@@ -3,8 +3,8 @@
 On the plane (one pinned target (theta_T, 0), theta_T = pi for the swing-up, 0 for the damping)
 take a state beyond the target moving away from it (theta0 > theta_T, omega0 > 0; the mirror
 image theta -> 2 theta_T - theta, omega -> -omega is the same). Its only transfer with at most one
-switch (for kappa > 1) is the *candidate*: u = -1 (braking, the turnaround at (theta_s, 0), the
-return accelerating), then u = +1 braking into the target. On an arc of constant u,
+switch (at speeds above 2; for the damping at kappa > 1) is the *candidate*: u = -1 (braking, the
+turnaround at (theta_s, 0), the return accelerating), then u = +1 braking into the target. On an arc of constant u,
 E - kappa u theta is conserved (E = omega^2/2 - cos theta), so the switch lies where the arc
 levels l = E + kappa theta (of the first arc, l = kappa theta_s - cos theta_s) and
 l_T = -cos theta_T - kappa theta_T (of the last) meet:
@@ -25,15 +25,16 @@ p_theta, and p_omega comes back to zero on the outgoing arc, as soon as
 every state of the first arc upstream of that zero violates the principle, so it needs two
 switches or more. Such states exist at every kappa (at switch energies E_sw of about
 kappa^3 / (4 pi) and above): N_kappa >= 2 on the plane for every kappa, and the plane's principal
-values kappa_1 (swing-up and damping) do not exist. (Below kappa = 1 the circle already has states of
-two switches, and a state's optimal transfer on the circle is one on the plane pinned to its branch.)
+values kappa_1 (swing-up and damping) do not exist. (For the damping below kappa = 1 the circle
+has states of two switches already, kappa_1 = 1.039 there, and a state's optimal transfer on the
+circle is optimal on the plane pinned to its branch.)
 
 The limit problem (l -> infinity): near the turnaround p_omega is a constant P to first order and
 mu = p_omega / P solves Jacobi's equation mu'' + cos(theta(t)) mu = 0 along the u = -1 arc through
-(phi, 0), with mu = 1, mu' = 0 on the return far from the stop; its first zero on the outgoing
+(phi, 0), with mu -> 1, mu' -> 0 on the return far from the stop; its first zero on the outgoing
 side is the lower edge of the tongue of two switches, at the speed omega_edge(phi). The least over
 the phase phi, omega_min(kappa), is the least speed of a far state needing two switches (attained
-at infinite distance); it tends to kappa^(3/2) / sqrt(2 pi) (the kick formula) as kappa grows.
+at infinite distance); it tends to (kappa + sin(pi/4))^(3/2) / sqrt(2 pi) (the kick) as kappa grows.
 
 Units: nondimensional time and angle of `ocp.core.model`; all speeds in rad per unit time.
 """
@@ -50,6 +51,10 @@ from ..core.problem import KINDS
 
 #: the relative and absolute tolerance of the integrations (DOP853)
 TOL = 1e-12
+#: the least kappa of each kind for which the candidate is computed: the damping's braking curve
+#: into (0, 0) reaches every switch for kappa > 1 (below kappa_1 = 1.039 of the circle, states of
+#: two switches exist already); the swing-up's for every kappa (0.5: the turnaround stays regular)
+LOWEST = {"swing-up": 0.5, "damping": 1.0}
 
 
 @dataclass(frozen=True)
@@ -88,7 +93,7 @@ def _outgoing_zero(y_stop, kappa, omega_cap):
     """Backwards in time from the turnaround state y_stop (omega = 0) along the outgoing arc: the
     first zero of p_omega as (theta, omega, time before the stop), or None if omega reaches
     omega_cap first."""
-    span = 4.0 * omega_cap / max(kappa - 1.0, 0.1 * kappa)
+    span = 4.0 * omega_cap / kappa + 20.0
     sol = solve_ivp(_arc, (0.0, -span), y_stop, "DOP853", args=(kappa,), rtol=TOL, atol=TOL,
                     events=(_event(3), _event(1, omega_cap)))
     if len(sol.t_events[0]):
@@ -104,8 +109,10 @@ def candidate(kind, kappa, theta_s, omega_cap=None):
     reaches omega_cap."""
     if kind not in KINDS:
         raise InputError(f"unknown problem {kind!r}; accepted: {', '.join(KINDS)}")
-    if not kappa > 1.0:
-        raise InputError(f"kappa = {kappa!r}: the far candidate is unique for kappa > 1 only; accepted: kappa > 1")
+    low = LOWEST[kind]
+    if not kappa > low:
+        raise InputError(f"kappa = {kappa!r}: the far candidate of the {kind} is computed for kappa > {low:g} only; "
+                         f"accepted: kappa > {low:g}")
     omega_cap = _cap(kappa) if omega_cap is None else omega_cap
     theta_t = KINDS[kind].target_base
     level, level_t = kappa * theta_s - math.cos(theta_s), -math.cos(theta_t) - kappa * theta_t
@@ -115,7 +122,7 @@ def candidate(kind, kappa, theta_s, omega_cap=None):
                          f"return meets the braking curve into it")
     omega_sw = -math.sqrt(2 * (e_sw + math.cos(theta_sw)))
     y_sw = np.array([theta_sw, omega_sw, -1.0 / omega_sw, 0.0])
-    back = solve_ivp(_arc, (0.0, -4 * abs(omega_sw) / (kappa - 1.0)), y_sw, "DOP853", args=(kappa,), rtol=TOL,
+    back = solve_ivp(_arc, (0.0, -4 * abs(omega_sw) / kappa - 20.0), y_sw, "DOP853", args=(kappa,), rtol=TOL,
                      atol=TOL, events=(_event(1, 0.0, True, 1.0), _event(3, 0.0, True, -1.0)))
     if len(back.t_events[1]) or not len(back.t_events[0]):
         zero = (float(back.y[0, -1]), float(back.y[1, -1]), None)       # p_omega vanished on the return
@@ -135,7 +142,7 @@ def edge_speed(kappa, phi, omega_start=None, omega_cap=None):
         omega_start = 4 * kappa ** 1.5
     omega_cap = _cap(kappa) if omega_cap is None else omega_cap
     # the return side: forward in time from the stop the pendulum falls back (omega < 0)
-    ret = solve_ivp(_arc, (0.0, 4 * omega_start / (kappa - 1.0)), np.array([phi, 0.0, 0.0, 0.0]), "DOP853",
+    ret = solve_ivp(_arc, (0.0, 4 * omega_start / kappa + 20.0), np.array([phi, 0.0, 0.0, 0.0]), "DOP853",
                     args=(kappa,), rtol=TOL, atol=TOL, events=(_event(1, -omega_start),))
     start = ret.y_events[0][0].copy()
     start[2:] = (math.sin(start[0]) / start[1], 1.0)      # p_theta = mu sin(theta)/omega + O(omega^-2)
@@ -210,10 +217,12 @@ class Edge:
 
 def extrapolated_edge(kind, kappa, phi, turns=(160, 320, 640)):
     """(omega at infinite distance, its fit error): the speed at the zero of p_omega of the finite
-    candidates turning at phi + 2 pi m (m in turns), 1/omega_zero fitted by a parabola in
+    candidates turning at phi + 2 pi m (m in turns, times (kappa/5)^2 above kappa = 5, which keeps the
+    expansion's variable kappa^(3/2) / |omega_sw| of the same size), 1/omega_zero fitted by a parabola in
     1/|omega_sw| (the kick's model: 1/omega_zero = sqrt(2 pi) kappa^(-3/2) - 1/|omega_sw| + ...) and
     read at 1/|omega_sw| = 0; the error is its distance from the line through the two farthest."""
-    points = [candidate(kind, kappa, phi + 2 * math.pi * m) for m in turns]
+    scale = max(1.0, (kappa / 5) ** 2)
+    points = [candidate(kind, kappa, phi + 2 * math.pi * m * scale) for m in turns]
     x = np.array([1 / abs(c.switch[1]) for c in points])
     y = np.array([1 / c.zero[1] for c in points])
     quadratic, line = np.polyfit(x, y, 2)[-1], np.polyfit(x[1:], y[1:], 1)[-1]
@@ -228,6 +237,39 @@ def edge(kappa, kind="swing-up"):
     far, fit = extrapolated_edge(kind, kappa, phi)
     routes = {"limit problem, omega_start 4 kappa^1.5": omega,
               "limit problem, omega_start 8 kappa^1.5": edge_speed(kappa, phi, 8 * kappa ** 1.5),
-              "finite candidates to 640 turns, extrapolated": far}
+              "finite candidates, extrapolated to infinite distance": far}
     values = list(routes.values())
     return Edge(kappa, omega, max(values) - min(values) + fit, phi, kick_edge(kappa), routes)
+
+
+def least_time_to_go(kind, kappa, n, psi_lo, psi_hi, s_max=400.0, samples=60):
+    """(s, psi): the least time-to-go s_n(psi) of the n-th switch (counted back from the target) of
+    the field's extremals over final costate angles psi in [psi_lo, psi_hi] (sampled, then bounded
+    Brent minimisation); (inf, nan) if none switches n times within s_max."""
+    from .bifurcation import switch_point
+
+    def s(psi):
+        point = switch_point(kind, kappa, psi, n, s_max=s_max)
+        return math.inf if point is None else point.s
+
+    grid = np.linspace(psi_lo, psi_hi, samples)
+    values = [s(p) for p in grid]
+    i = int(np.argmin(values))
+    if not math.isfinite(values[i]):
+        return math.inf, math.nan
+    step = grid[1] - grid[0]
+    best = minimize_scalar(s, bounds=(grid[i] - step, grid[i] + step), method="bounded", options={"xatol": 1e-9})
+    return float(best.fun), float(best.x)
+
+
+def runaway(kind, n, kappas, psi_lo, psi_hi):
+    """(kappa_inf, error, [(kappa, s, psi)]): where the least time-to-go of the n-th switch runs off to
+    infinity (its switch point to infinite energy): 1/s at the kappas, fitted by a parabola and by
+    the line through the last two, each extrapolated to 1/s = 0; the error is their distance."""
+    rows = [(k, *least_time_to_go(kind, k, n, psi_lo, psi_hi)) for k in kappas]
+    k, inv = np.array([r[0] for r in rows]), np.array([1 / r[1] for r in rows])
+    quadratic = np.polynomial.polynomial.Polynomial.fit(k, inv, 2)
+    roots = [r.real for r in quadratic.roots() if abs(r.imag) < 1e-12 and r.real > k[-1]]
+    line = k[-1] - inv[-1] * (k[-1] - k[-2]) / (inv[-1] - inv[-2])
+    best = min(roots) if roots else line
+    return float(best), float(abs(best - line)), rows

@@ -15,7 +15,7 @@ from scipy.optimize import brentq
 import ocp
 from ocp.core.errors import InputError
 from ocp.core.problem import KINDS
-from ocp.synthesis import limit
+from ocp.synthesis import limit, results
 
 KAPPA, TURN = 5.0, 2 * math.pi * 10 + math.pi / 4
 
@@ -81,8 +81,22 @@ def test_the_limit_problem_meets_its_stationary_phase_estimate():
 
 def test_bad_input_is_refused():
     with pytest.raises(InputError, match="kappa > 1"):
-        limit.candidate("swing-up", 0.9, TURN)
+        limit.candidate("damping", 0.9, TURN)
     with pytest.raises(InputError, match="beyond the target"):
         limit.candidate("swing-up", KAPPA, 1.0)
     with pytest.raises(InputError, match="accepted"):
         limit.candidate("swing", KAPPA, TURN)
+
+
+def test_the_approach_fit_recovers_a_power_law_and_the_table_prints_a_missing_value():
+    # rows whose ratios follow 1 - ratio = 0.2 n^-1.5 exactly: the fit returns a = 0.2, p = 1.5
+    rows = [{"case": f"swing-up/circle/{n}", "kind": "swing-up", "reading": "circle", "n": n,
+             "kappa": (1 - 0.2 * n ** -1.5) * 0.9 / n, "asymptote": 0.9 / n} for n in range(1, 6)]
+    a, da, p, dp, residual, ns = results.approach(rows)["swing-up"]
+    assert ns == (2, 3, 4, 5) and abs(a - 0.2) < 1e-12 and abs(p - 1.5) < 1e-12 and residual < 1e-14
+    plane = {"case": "damping/plane/1", "kind": "damping", "reading": "plane", "n": 1, "kappa": None,
+             "mechanism": "kappa_1 does not exist on the plane", "commit": "c"}
+    full = [dict(r, error=1e-13, published=None, state=[0.0, 0.0], mechanism="m", time_to_go=1.0, commit="c")
+            for r in rows]
+    table = results.format_table(full + [plane])
+    assert "none (N >= 2 always)" in table and "a = 0.2" in table and "p = 1.5" in table

@@ -68,7 +68,7 @@ _FAR = ("the far turnaround: the one-switch candidate's p_omega vanishes again o
 PLANE_CASES = (
     PlaneCase("swing-up", 1, (2.0, 5.0, 12.0),
               ((0.9, 20 * math.pi + 0.3), (5.0, 20 * math.pi + math.pi / 4), (12.0, 40 * math.pi + math.pi / 4)), _FAR),
-    PlaneCase("damping", 1, (2.0, 5.0, 12.0),
+    PlaneCase("damping", 1, (5.0,),
               ((5.0, 20 * math.pi + math.pi / 4), (12.0, 40 * math.pi + math.pi / 4)), _FAR),
 )
 CASES = CASES + PLANE_CASES

@@ -152,16 +152,24 @@ def edge_speed(kappa, phi, omega_start=None, omega_cap=None):
     return math.inf if zero is None else zero[1]
 
 
-def least_edge(kappa, omega_start=None, samples=48):
+def sampled_minimum(f, lo, hi, samples, xatol):
+    """(min f, its argument) over [lo, hi]: f at `samples` equispaced points, then bounded Brent
+    minimisation between the neighbours of the least; (inf, nan) if f is infinite at every sample."""
+    grid = np.linspace(lo, hi, samples)
+    values = [f(x) for x in grid]
+    i = int(np.argmin(values))
+    if not math.isfinite(values[i]):
+        return math.inf, math.nan
+    step = grid[1] - grid[0]
+    best = minimize_scalar(f, bounds=(grid[i] - step, grid[i] + step), method="bounded", options={"xatol": xatol})
+    return float(best.fun), float(best.x)
+
+
+def least_edge(kappa, omega_start=None, samples=24):
     """(omega_min, phi): the least edge speed of the limit problem over the turnaround's phase phi,
     sampled then refined by bounded Brent minimisation."""
-    phis = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
-    values = [edge_speed(kappa, p, omega_start) for p in phis]
-    i = int(np.argmin(values))
-    step = phis[1] - phis[0]
-    best = minimize_scalar(lambda p: edge_speed(kappa, p, omega_start), bounds=(phis[i] - step, phis[i] + step),
-                           method="bounded", options={"xatol": 1e-7})
-    return float(best.fun), float(math.remainder(best.x, 2 * math.pi))
+    value, phi = sampled_minimum(lambda p: edge_speed(kappa, p, omega_start), 0.0, 2 * math.pi, samples, 1e-7)
+    return value, float(math.remainder(phi, 2 * math.pi))
 
 
 def kick_edge(kappa):
@@ -222,7 +230,7 @@ def extrapolated_edge(kind, kappa, phi, turns=(160, 320, 640)):
     1/|omega_sw| (the kick's model: 1/omega_zero = sqrt(2 pi) kappa^(-3/2) - 1/|omega_sw| + ...) and
     read at 1/|omega_sw| = 0; the error is its distance from the line through the two farthest."""
     scale = max(1.0, (kappa / 5) ** 2)
-    points = [candidate(kind, kappa, phi + 2 * math.pi * m * scale) for m in turns]
+    points = [candidate(kind, kappa, phi + 2 * math.pi * round(m * scale)) for m in turns]
     x = np.array([1 / abs(c.switch[1]) for c in points])
     y = np.array([1 / c.zero[1] for c in points])
     quadratic, line = np.polyfit(x, y, 2)[-1], np.polyfit(x[1:], y[1:], 1)[-1]
@@ -252,14 +260,7 @@ def least_time_to_go(kind, kappa, n, psi_lo, psi_hi, s_max=400.0, samples=60):
         point = switch_point(kind, kappa, psi, n, s_max=s_max)
         return math.inf if point is None else point.s
 
-    grid = np.linspace(psi_lo, psi_hi, samples)
-    values = [s(p) for p in grid]
-    i = int(np.argmin(values))
-    if not math.isfinite(values[i]):
-        return math.inf, math.nan
-    step = grid[1] - grid[0]
-    best = minimize_scalar(s, bounds=(grid[i] - step, grid[i] + step), method="bounded", options={"xatol": 1e-9})
-    return float(best.fun), float(best.x)
+    return sampled_minimum(s, psi_lo, psi_hi, samples, 1e-9)
 
 
 def runaway(kind, n, kappas, psi_lo, psi_hi):

@@ -100,3 +100,14 @@ def test_the_approach_fit_recovers_a_power_law_and_the_table_prints_a_missing_va
             for r in rows]
     table = results.format_table(full + [plane])
     assert "none (N >= 2 always)" in table and "a = 0.2" in table and "p = 1.5" in table
+
+
+def test_the_least_time_to_go_of_the_dampings_band_is_a_minimum():
+    # the band of three switches at kappa = 0.5 (README: omega of 10 to 12): its least time-to-go over psi
+    from ocp.synthesis.bifurcation import switch_point
+
+    s, psi = limit.least_time_to_go("damping", 0.5, 3, 2.2, 2.3, samples=11)
+    assert 20 < s < 25 and 2.2 < psi < 2.3
+    for d in (-1e-3, 1e-3):
+        assert switch_point("damping", 0.5, psi + d, 3).s > s
+    assert abs(switch_point("damping", 0.5, psi, 3).x[1]) > 9

@@ -52,8 +52,8 @@ from ..core.problem import KINDS
 #: the relative and absolute tolerance of the integrations (DOP853)
 TOL = 1e-12
 #: the least kappa of each kind for which the candidate is computed: the damping's braking curve
-#: into (0, 0) reaches every switch for kappa > 1 (below kappa_1 = 1.039 of the circle, states of
-#: two switches exist already); the swing-up's for every kappa (0.5: the turnaround stays regular)
+#: into (0, 0) reaches every switch for kappa > 1, the swing-up's for every kappa (computed from 0.5);
+#: below, the circle has states of two switches already (kappa_1 = 1.039 and 0.800 there)
 LOWEST = {"swing-up": 0.5, "damping": 1.0}
 
 

@@ -46,6 +46,26 @@ CASES = (
 
 
 @dataclass(frozen=True)
+class TieCase:
+    """A region of n + 1 switches whose end is computed by the fold-and-tie equations alone
+    (`bifurcation.fold_and_tie`, against `competitor` = (arc signs, branch)): a lower bound of kappa_n."""
+
+    kind: str
+    reading: str
+    n: int
+    kappa_lo: float
+    kappa_hi: float
+    psi_lo: float
+    psi_hi: float
+    competitor: tuple
+    located: str
+
+    @property
+    def id(self):
+        return f"{self.kind}/{self.reading}/{self.n}"
+
+
+@dataclass(frozen=True)
 class PlaneCase:
     """The plane's (one pinned target) principal value of `kind`: computed by the far turnaround
     (`ocp.synthesis.limit`), its tongues' lower edge at the kappas, confirmed by the complete
@@ -71,7 +91,12 @@ PLANE_CASES = (
     PlaneCase("damping", 1, (5.0,),
               ((5.0, 20 * math.pi + math.pi / 4), (12.0, 40 * math.pi + math.pi / 4)), _FAR),
 )
-CASES = CASES + PLANE_CASES
+CASES = CASES + (
+    TieCase("damping", "circle", 2, 0.5, 0.51, 2.20, 2.29, ((-1, 1, -1), -1),
+            "maps: 3 switches at omega of 10 to 12 at kappa = 0.5 (a band on the braking curves); gap -0.105 at "
+            "kappa = 0.5 (psi = 2.25), +0.187 at kappa = 0.51 (psi = 2.226); other extremals switch a third time "
+            "at high energy up to kappa = 1, their gaps not computed"),
+) + PLANE_CASES
 
 
 def find(case_id):

@@ -15,8 +15,8 @@ import time
 from ..core.errors import Fault
 from ..core.numbers import plus_minus
 from ..core.provenance import git_commit
-from .bifurcation import bifurcation
-from .cases import CASES, find
+from .bifurcation import bifurcation, fold_and_tie
+from .cases import CASES, TieCase, find
 
 #: what Finch (2015) prints for a case: (key in ocp/papers/data/finch2015.toml, the text printed)
 PUBLISHED = {"swing-up/circle/1": ("bifurcation_swing_n1", "about 0.80"),
@@ -36,8 +36,13 @@ def compute(case):
     start = time.perf_counter()
     if case.reading == "plane":
         return dict(plane(case), located=case.located, commit=git_commit(), time_s=time.perf_counter() - start)
-    b = bifurcation(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi)
+    if isinstance(case, TieCase):
+        b = fold_and_tie(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi,
+                         case.competitor)
+    else:
+        b = bifurcation(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi)
     row = dict(b.to_dict(), case=case.id, asymptote=gibbs_constant() / (2 * case.n),
+               bound="lower" if isinstance(case, TieCase) else None,
                published=PUBLISHED.get(case.id, (None, None))[1], located=case.located,
                commit=git_commit(), time_s=time.perf_counter() - start)
     return row
@@ -138,7 +143,8 @@ def format_table(rows):
         theta, omega = r["state"]
         if r["reading"] == "circle":
             theta = math.remainder(theta, 2 * math.pi)
-        lines.append(f"{r['case']:<20} {plus_minus(r['kappa'], r['error']):>24} {r['asymptote']:>8.4f} "
+        value = (">= " if r.get("bound") == "lower" else "") + plus_minus(r["kappa"], r["error"])
+        lines.append(f"{r['case']:<20} {value:>24} {r['asymptote']:>8.4f} "
                      f"{r['kappa'] / r['asymptote']:>7.4f} {r['published'] or '-':>10}  ({theta:.4f}, {omega:.4f})")
     for kind, (a, da, p, dp, residual, ns) in approach([r for r in rows if r["kappa"] is not None]).items():
         lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = a n^-p with a = {plus_minus(a, da)}, "

@@ -98,8 +98,10 @@ def test_the_approach_fit_recovers_a_power_law_and_the_table_prints_a_missing_va
              "mechanism": "kappa_1 does not exist on the plane", "commit": "c"}
     full = [dict(r, error=1e-13, published=None, state=[0.0, 0.0], mechanism="m", time_to_go=1.0, commit="c")
             for r in rows]
-    table = results.format_table(full + [plane])
+    bound = dict(full[1], case="damping/circle/2", kind="damping", bound="lower")
+    table = results.format_table(full + [bound, plane])
     assert "none (N >= 2 always)" in table and "a = 0.2" in table and "p = 1.5" in table
+    assert ">= " + results.plus_minus(bound["kappa"], 1e-13) in table
 
 
 def test_the_least_time_to_go_of_the_dampings_band_is_a_minimum():

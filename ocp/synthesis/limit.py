@@ -190,8 +190,8 @@ def confirm(kind, kappa, theta_s, offsets=(-0.2, 0.2)):
     """The complete search on the plane (branch 0) at states of the candidate's first arc, offset dt
     before (dt > 0: upstream, where the principle fails) or after (dt < 0) the zero of p_omega:
     [{"dt", "x0", "T", "switches", "arc_signs", "candidate_T"}]; N >= 2 upstream is the claim checked."""
-    import ocp
     from ..core.problem import make
+    from ..solving import solve
 
     c = candidate(kind, kappa, theta_s)
     if c.zero is None:
@@ -199,7 +199,7 @@ def confirm(kind, kappa, theta_s, offsets=(-0.2, 0.2)):
     rows = []
     for dt in offsets:
         x0 = upstream(kappa, c.zero, dt)
-        s = ocp.solve(make(kind, kappa, x0, branch=0))
+        s = solve(make(kind, kappa, x0, branch=0))
         rows.append({"dt": dt, "x0": list(x0), "T": s.T, "switches": s.n_switches, "arc_signs": list(s.arc_signs)})
     return c, rows
 

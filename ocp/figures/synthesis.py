@@ -86,7 +86,8 @@ def born_regions(s):
 
     w, out = s.window, []
     for row in stored().values():
-        if (row["kind"], row["reading"]) != (s.kind, s.reading) or abs(row["kappa"] - s.kappa) > 0.1 * row["kappa"]:
+        if (row["kind"], row["reading"]) != (s.kind, s.reading) or row["kappa"] is None or \
+                abs(row["kappa"] - s.kappa) > 0.1 * row["kappa"]:          # a plane row has no value
             continue
         th, om = row["state"]
         if s.reading == "circle":

@@ -269,3 +269,21 @@ def bifurcation(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, trace=None
 
 def _ordinal(k):
     return {1: "first", 2: "second", 3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh"}.get(k, f"{k}th")
+
+
+def fold_and_tie(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, label, ktol=1e-12):
+    """The Bifurcation where the region of n + 1 switches carried by the field's extremals at
+    psi in [psi_lo, psi_hi] ends by the fold-and-tie mechanism alone (`tangency_tie` against the
+    competitor `label`, at the Taylor accuracies PRECISE and CHECK): the value where that region
+    vanishes, a lower bound of kappa_n when other regions of n + 1 switches are not excluded. Error
+    bar: the spread of the two accuracies plus ktol."""
+    routes = {f"fold and tie equations, {name}, kappa to {ktol:g}":
+              tangency_tie(kind, reading, n + 1, kappa_lo, kappa_hi, psi_lo, psi_hi, label, accuracy, ktol)
+              for name, accuracy in (("PRECISE", taylor.PRECISE), ("CHECK", taylor.CHECK))}
+    (k, psi), values = next(iter(routes.values())), [r[0] for r in routes.values()]
+    point = switch_point(kind, k, psi, n + 1)
+    mechanism = (f"the {_ordinal(n + 1)} switching curve folds where it ties with the extremal {label[0]} to branch "
+                 f"{label[1]}: the region of {n + 1} switches of the extremals at psi in [{psi_lo:g}, {psi_hi:g}] ends "
+                 f"there (a lower bound of kappa_{n}: other regions of {n + 1} switches are not excluded)")
+    return Bifurcation(kind, reading, n, k, max(values) - min(values) + ktol, psi, point.x, point.s, label, mechanism,
+                       {name: r[0] for name, r in routes.items()})

@@ -7,6 +7,7 @@ comes within 20 time units (300 to 400 angles) at kappa_lo; `ocp bifurcation` re
 from its case. The mirror image (theta -> -theta, psi -> psi + pi) carries the same value.
 """
 
+import math
 from dataclasses import dataclass
 
 
@@ -42,6 +43,60 @@ CASES = (
     Case("damping", "circle", 1, 1.0, 1.04, 2.15, 2.30,
          "least gap: negative at kappa = 1.0 (psi = 2.235, a switch point at omega = 7.3), positive at 1.04"),
 )
+
+
+@dataclass(frozen=True)
+class TieCase:
+    """A region of n + 1 switches whose end is computed by the fold-and-tie equations alone
+    (`bifurcation.fold_and_tie`, against `competitor` = (arc signs, branch)): a lower bound of kappa_n."""
+
+    kind: str
+    reading: str
+    n: int
+    kappa_lo: float
+    kappa_hi: float
+    psi_lo: float
+    psi_hi: float
+    competitor: tuple
+    located: str
+
+    @property
+    def id(self):
+        return f"{self.kind}/{self.reading}/{self.n}"
+
+
+@dataclass(frozen=True)
+class PlaneCase:
+    """The plane's (one pinned target) principal value of `kind`: computed by the far turnaround
+    (`ocp.synthesis.limit`), its tongues' lower edge at the kappas, confirmed by the complete
+    search at the states (kappa, theta_s: the turnaround of the candidate) of `confirm`."""
+
+    kind: str
+    n: int
+    kappas: tuple
+    confirm: tuple
+    located: str
+    reading = "plane"
+
+    @property
+    def id(self):
+        return f"{self.kind}/plane/{self.n}"
+
+
+_FAR = ("the far turnaround: the one-switch candidate's p_omega vanishes again on its first arc "
+        "(limit.candidate), located at kappa = 12 by the search's tongue at (62.99, 44.43)")
+PLANE_CASES = (
+    PlaneCase("swing-up", 1, (2.0, 5.0, 12.0),
+              ((0.9, 20 * math.pi + 0.3), (5.0, 20 * math.pi + math.pi / 4), (12.0, 40 * math.pi + math.pi / 4)), _FAR),
+    PlaneCase("damping", 1, (5.0,),
+              ((5.0, 20 * math.pi + math.pi / 4), (12.0, 40 * math.pi + math.pi / 4)), _FAR),
+)
+CASES = CASES + (
+    TieCase("damping", "circle", 2, 0.5, 0.51, 2.20, 2.29, ((-1, 1, -1), -1),
+            "maps: 3 switches at omega of 10 to 12 at kappa = 0.5 (a band on the braking curves); gap -0.105 at "
+            "kappa = 0.5 (psi = 2.25), +0.187 at kappa = 0.51 (psi = 2.226); other extremals switch a third time "
+            "at high energy up to kappa = 1, their gaps not computed"),
+) + PLANE_CASES
 
 
 def find(case_id):

@@ -2,7 +2,10 @@
 
 Each row: the Bifurcation (`ocp.synthesis.bifurcation`), its case id, the asymptote G/(2n) of
 Ovseevich (2014) (G = Si(pi)) beside it, the value Finch (2015) prints for it where he prints one
-(quoting Reshmin), the commit of the code and the time it took.
+(quoting Reshmin), the commit of the code and the time it took. A row of the plane
+(`ocp.synthesis.limit`) has kappa None (the value does not exist: N_kappa >= 2 at every kappa), the
+tongues' lower edge speeds ("edges") and the complete search's switch counts on either side of the
+candidate's zero ("confirmations") instead.
 """
 
 import json
@@ -12,8 +15,8 @@ import time
 from ..core.errors import Fault
 from ..core.numbers import plus_minus
 from ..core.provenance import git_commit
-from .bifurcation import bifurcation
-from .cases import CASES, find
+from .bifurcation import bifurcation, fold_and_tie
+from .cases import CASES, TieCase, find
 
 #: what Finch (2015) prints for a case: (key in ocp/papers/data/finch2015.toml, the text printed)
 PUBLISHED = {"swing-up/circle/1": ("bifurcation_swing_n1", "about 0.80"),
@@ -31,11 +34,45 @@ def compute(case):
     from ..exact.finch import gibbs_constant
 
     start = time.perf_counter()
-    b = bifurcation(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi)
+    if case.reading == "plane":
+        return dict(plane(case), located=case.located, commit=git_commit(), time_s=time.perf_counter() - start)
+    if isinstance(case, TieCase):
+        b = fold_and_tie(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi,
+                         case.competitor)
+    else:
+        b = bifurcation(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi)
     row = dict(b.to_dict(), case=case.id, asymptote=gibbs_constant() / (2 * case.n),
+               bound="lower" if isinstance(case, TieCase) else None,
                published=PUBLISHED.get(case.id, (None, None))[1], located=case.located,
                commit=git_commit(), time_s=time.perf_counter() - start)
     return row
+
+
+def plane(case):
+    """The row of a PlaneCase: the Edge (`limit.edge`) at each of its kappas, and the complete
+    search at the states 0.2 time units downstream and upstream of the zero of p_omega of the
+    candidate turning at each (kappa, theta_s) of case.confirm (expected: 1 and 2 switches)."""
+    from . import limit
+
+    edges = [limit.edge(k, case.kind).to_dict() for k in case.kappas]
+    checks = []
+    for kappa, theta_s in case.confirm:
+        c, solves = limit.confirm(case.kind, kappa, theta_s)
+        checks.append({"kappa": kappa, "theta_s": theta_s, "zero": list(c.zero), "states": [r["x0"] for r in solves],
+                       "switches": [r["switches"] for r in solves], "arc_signs": [r["arc_signs"] for r in solves]})
+    agree = all(ch["switches"][0] <= 1 < ch["switches"][1] for ch in checks)
+    edge_text = ", ".join(f"{plus_minus(e['omega_min'], e['error'])} at kappa = {e['kappa']:g}" for e in edges)
+    at = ", ".join(f"{ch['kappa']:g}" for ch in checks)
+    counts = "; ".join(f"{ch['switches'][0]} and {ch['switches'][1]}" for ch in checks)
+    mechanism = (f"kappa_1 does not exist on the plane: N_kappa >= 2 at every kappa. States beyond the pinned target "
+                 f"moving away from it turn far away; there the costate's kick reverses p_theta and the one-switch "
+                 f"candidate's p_omega vanishes again on its first arc, so states upstream of that zero need two "
+                 f"switches (+1 -1 +1), at speeds down to omega_min = {edge_text} (the limit problem; "
+                 f"~ (kappa + 0.71)^1.5 / sqrt(2 pi)); the complete search {'confirms' if agree else 'DISAGREES'} "
+                 f"at kappa = {at}: {counts} switches just downstream and upstream of the zero")
+    return {"case": case.id, "kind": case.kind, "reading": "plane", "n": case.n, "kappa": None, "error": None,
+            "exists": False, "edges": edges, "confirmations": checks, "confirmed": agree, "mechanism": mechanism,
+            "asymptote": None, "published": None}
 
 
 def stored():
@@ -73,16 +110,47 @@ def append(path, row):
         raise Fault(f"cannot write {path}: {err}") from None
 
 
+def approach(rows, n_min=2):
+    """{kind: (a, a's standard error, p, p's standard error, largest residual, the n fitted)}: the fit
+    1 - kappa_n / (G/(2n)) = a n^(-p) by least squares in log-log over each circle sequence's
+    values with n >= n_min (three at least)."""
+    import numpy as np
+
+    fits = {}
+    for kind in dict.fromkeys(r["kind"] for r in rows):
+        seq = sorted((r["n"], 1 - r["kappa"] / r["asymptote"]) for r in rows
+                     if r["kind"] == kind and r["reading"] == "circle" and r["n"] >= n_min)
+        if len(seq) < 3:
+            continue
+        n, d = np.array(seq).T
+        (slope, log_a), cov = np.polyfit(np.log(n), np.log(d), 1, cov=len(seq) > 3)
+        se = np.sqrt(np.diag(cov)) if len(seq) > 3 else (math.nan, math.nan)
+        a = math.exp(log_a)
+        fits[kind] = (a, a * se[1], -slope, se[0], float(np.max(np.abs(a * n ** slope - d))), tuple(int(k) for k in n))
+    return fits
+
+
 def format_table(rows):
-    """The values as aligned text, a line each, then the attaining states and mechanisms."""
-    lines = [f"{'case':<20} {'kappa_n':>24} {'G/(2n)':>8} {'published':>10}  attained at (theta mod 2 pi, omega)"]
+    """The values as aligned text, a line each (with kappa_n / (G/(2n))), the fit of the approach to
+    the asymptote, then the attaining states and mechanisms."""
+    lines = [f"{'case':<20} {'kappa_n':>24} {'G/(2n)':>8} {'ratio':>7} {'published':>10}  "
+             f"attained at (theta mod 2 pi, omega)"]
     for r in rows:
+        if r["kappa"] is None:
+            lines.append(f"{r['case']:<20} {'none (N >= 2 always)':>24} {'-':>8} {'-':>7} {'-':>10}  "
+                         f"far turnarounds (the limit of high energy)")
+            continue
         theta, omega = r["state"]
         if r["reading"] == "circle":
             theta = math.remainder(theta, 2 * math.pi)
-        lines.append(f"{r['case']:<20} {plus_minus(r['kappa'], r['error']):>24} {r['asymptote']:>8.4f} "
-                     f"{r['published'] or '-':>10}  ({theta:.4f}, {omega:.4f})")
+        value = (">= " if r.get("bound") == "lower" else "") + plus_minus(r["kappa"], r["error"])
+        lines.append(f"{r['case']:<20} {value:>24} {r['asymptote']:>8.4f} "
+                     f"{r['kappa'] / r['asymptote']:>7.4f} {r['published'] or '-':>10}  ({theta:.4f}, {omega:.4f})")
+    for kind, (a, da, p, dp, residual, ns) in approach([r for r in rows if r["kappa"] is not None]).items():
+        lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = a n^-p with a = {plus_minus(a, da)}, "
+                     f"p = {plus_minus(p, dp)} (least squares over n = {', '.join(map(str, ns))}; largest residual "
+                     f"{residual:.1e})")
     for r in rows:
-        lines.append(f"  {r['case']}: {r['mechanism']} (time-to-go {r['time_to_go']:.4f}); computed at "
-                     f"{r['commit'] or 'an unknown commit'}")
+        where = "" if r["kappa"] is None else f" (time-to-go {r['time_to_go']:.4f})"
+        lines.append(f"  {r['case']}: {r['mechanism']}{where}; computed at {r['commit'] or 'an unknown commit'}")
     return "\n".join(lines)

@@ -158,3 +158,29 @@ def test_a_malformed_scheduler_is_one_line(tmp_path, capsys):
         assert cli.main(["bench", str(path), "--store", str(tmp_path / "s.sqlite"), "--scheduler", address]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "--scheduler" in err and "tcp://host:8786" in err
+
+
+def test_cases_named_by_instance_or_tag_of_the_reference_set(tmp_path):
+    """Issue 20: a suite names instances of the reference set by id or by tag; each becomes the case
+    of its problem (its pinned branch too), and the bench's reference of it is the set's, not searched
+    again. A name the set does not have is one line naming what is accepted."""
+    from ocp.bench import reference as bench_reference
+    from ocp.reference import load
+
+    rows = [r for r in load().values() if r["status"] == "solved"]
+    plane = next(r for r in rows if r["branch_pinned"] is not None)
+    tagged = [r for r in rows if "near-tie" in r["tags"]]
+    path = tmp_path / "set.toml"
+    path.write_text(f'name = "set"\n[[cases]]\ninstance = ["{plane["id"]}"]\n[[cases]]\ntag = "near-tie"\n'
+                    f'[[methods]]\ntranscription = "multiple-shooting"\nN = 20\n')
+    cases = suite.load(path).cases
+    problems = {(c.kind, c.kappa, c.x0, c.branch) for c in cases}
+    assert len(cases) == 1 + len(tagged) and tagged
+    assert (plane["kind"], plane["kappa"], tuple(plane["x0"]), plane["branch_pinned"]) in problems
+    ref = bench_reference.reference(next(c for c in cases if c.branch is not None))
+    assert ref.source.startswith(f"the reference set ({plane['id']}") and ref.T == float(plane["optimum"]["refined"]["T"])
+    for bad, says in (('instance = "swing-up/circle/nowhere"', "no solved instance"), ('tag = "easy"', "no solved instance"),
+                      ('tag = "tie"\nkind = "damping"', "takes instance or tag")):
+        path.write_text(f'name = "set"\n[[cases]]\n{bad}\n[[methods]]\ntranscription = "multiple-shooting"\n')
+        with pytest.raises(suite.InputError, match=says):
+            suite.load(path)

@@ -13,6 +13,11 @@ these" and the table expands to the Cartesian product of its lists:
     kappa = [0.5, 1.0]
     x0 = [[0.0, 0.0], [0.3, -0.1]]   # optional (default: the problem's standard start)
     guess = ["default", 1, 2]        # "default": ocp's three starts; an integer: a seeded random Guess
+    branch = 0                       # optional: the plane, the target's branch pinned (default: the circle)
+
+    [[cases]]                        # or instances of the reference set (ocp.reference), by id or tag
+    instance = ["swing-up/circle/k0.75/x0=standard"]    # each id (reference/index.csv)
+    tag = "near-tie"                 # every solved instance with this tag (with guess, as above)
 
     [[methods]]
     transcription = "multiple-shooting"   # a key of ocp.direct.TRANSCRIPTIONS, "rockit" or
@@ -91,15 +96,17 @@ def _key(obj):
 @dataclass(frozen=True)
 class Case:
     """One problem and one initial guess: `guess` None (ocp's default starts, best of three) or an
-    integer seed of a random guess (`ocp.direct.random_guess`)."""
+    integer seed of a random guess (`ocp.direct.random_guess`); `branch` None on the circle, an
+    integer pins the target's branch (the plane)."""
 
     kind: str
     kappa: float
     x0: tuple | None = None
     guess: int | None = None
+    branch: int | None = None
 
     def problem(self):
-        return problems.make(self.kind, self.kappa, self.x0)
+        return problems.make(self.kind, self.kappa, self.x0, self.branch)
 
     def initial_guess(self, N):
         return None if self.guess is None else direct.random_guess(self.problem(), self.guess, N)
@@ -108,17 +115,19 @@ class Case:
     def problem_key(self):
         """Identity of the problem alone (cases differing only in the guess share a reference)."""
         p = self.problem()
-        return _key({"kind": p.kind, "kappa": p.kappa, "x0": list(p.x0)})
+        return _key({"kind": p.kind, "kappa": p.kappa, "x0": list(p.x0),
+                     **({} if self.branch is None else {"branch": self.branch})})
 
     @property
     def key(self):
-        return _key(asdict(self))
+        return _key({k: v for k, v in asdict(self).items() if k != "branch" or v is not None})
 
     @property
     def label(self):
         p = self.problem()
         start = "" if self.x0 is None else f" from ({p.x0[0]:g}, {p.x0[1]:g})"
-        return f"{p.kind} kappa={p.kappa:g}{start}" + ("" if self.guess is None else f" guess#{self.guess}")
+        plane = "" if self.branch is None else f" plane branch {self.branch}"
+        return f"{p.kind} kappa={p.kappa:g}{start}{plane}" + ("" if self.guess is None else f" guess#{self.guess}")
 
 
 @dataclass(frozen=True)
@@ -258,12 +267,48 @@ def _expand(table, what):
     return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
 
 
+def _cases(d):
+    """The cases of one expanded [[cases]] table: a problem (kind, kappa, x0), or the instances of
+    the reference set named by `instance` (an id) or `tag`."""
+    if "instance" in d or "tag" in d:
+        return _instances(d)
+    return [_case(d)]
+
+
+def _instances(d):
+    from ..reference import load
+
+    if set(d) - {"instance", "tag", "guess"} or len(set(d) & {"instance", "tag"}) != 1:
+        raise InputError(f"a case of the reference set takes instance or tag (one of them) and guess; "
+                         f"not {', '.join(sorted(set(d) - {'guess'}))}")
+    solved = [r for r in load().values() if r["status"] == "solved"]
+    if "instance" in d:
+        _typed("instance", d["instance"], (str,), "an instance id of the reference set (reference/index.csv)")
+        chosen = [r for r in solved if r["id"] == d["instance"]]
+        what = f"instance {short(d['instance'])}"
+    else:
+        _typed("tag", d["tag"], (str,), "a tag of the reference set's instances (reference/index.csv)")
+        chosen = [r for r in solved if d["tag"] in r["tags"]]
+        what = f"tag {short(d['tag'])}"
+    if not chosen:
+        tags = sorted({t for r in solved for t in r["tags"]})
+        raise InputError(f"{what}: no solved instance of the reference set; accepted: an id of reference/index.csv "
+                         f"or a tag ({', '.join(tags)})")
+    guess = {"guess": d["guess"]} if "guess" in d else {}
+    return [_case({"kind": r["kind"], "kappa": r["kappa"], "x0": list(r["x0"]), **guess,
+                   **({} if r["branch_pinned"] is None else {"branch": r["branch_pinned"]})}) for r in chosen]
+
+
 def _case(d):
     names = {f.name for f in fields(Case)}
     if set(d) - names:
-        raise InputError(f"unknown case field(s) {sorted(set(d) - names)}; accepted: {', '.join(sorted(names))}")
+        raise InputError(f"unknown case field(s) {sorted(set(d) - names)}; accepted: "
+                         f"{', '.join(sorted(names | {'instance', 'tag'}))}")
     if "kind" not in d or "kappa" not in d:
-        raise InputError("a case needs kind and kappa")
+        raise InputError("a case needs kind and kappa (or instance or tag of the reference set)")
+    branch = d.get("branch")
+    if branch is not None and (isinstance(branch, bool) or not isinstance(branch, int)):
+        raise InputError(f"branch = {short(branch)} must be an integer (the target's pinned branch)")
     _typed("kind", d.get("kind"), (str,), f"one of: {', '.join(problems.KINDS)}")
     _typed("kappa", d.get("kappa"), NUMBER, "a number (the torque bound)")
     x0 = d.get("x0")
@@ -274,8 +319,9 @@ def _case(d):
     guess = d.get("guess", "default")
     if guess != "default" and (isinstance(guess, bool) or not isinstance(guess, int) or not 0 <= guess <= MAX_SEED):
         raise InputError(f"guess = {short(guess)} must be \"default\" or an integer seed from 0 to {MAX_SEED}")
-    case = Case(d["kind"], d["kappa"], None if x0 is None else tuple(x0), None if guess == "default" else guess)
-    case.problem()      # validates kind, kappa, x0
+    case = Case(d["kind"], d["kappa"], None if x0 is None else tuple(x0), None if guess == "default" else guess,
+                branch)
+    case.problem()      # validates kind, kappa, x0, branch
     return case
 
 
@@ -367,11 +413,11 @@ def load(name_or_path):
     except InputError as err:
         raise InputError(f"{path}: {err}") from None
     found = {}
-    for what, make in (("cases", _case), ("methods", _method)):
+    for what, make in (("cases", _cases), ("methods", lambda d: [_method(d)])):
         items = []
         for i, table in enumerate(tables[what], 1):
             try:
-                items += [make(d) for d in _expand(table, what)]
+                items += [item for d in _expand(table, what) for item in make(d)]
             except InputError as err:
                 raise InputError(f"{path}: [[{what}]] #{i}: {err}") from None
             if len(items) > MAX_PAIRS:

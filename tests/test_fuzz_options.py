@@ -7,7 +7,6 @@ never a traceback.
 Hypothesis, derandomized and bounded (about 20 s): the same examples on every run.
 """
 
-import pytest
 from hypothesis import given, settings, strategies as st
 from test_fuzz import FUZZ, anything, assert_well_ended, call, stopped, toml  # noqa: F401  (stopped: a fixture)
 

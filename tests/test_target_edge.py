@@ -19,7 +19,6 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.integrate import solve_ivp
-from scipy.optimize import root
 
 from ocp.core.problem import KAPPA_RANGE, make
 from ocp.indirect import search

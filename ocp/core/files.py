@@ -3,6 +3,7 @@ over it only when complete, so that a full disk or an error midway leaves no hal
 (the previous file, if any, stays). A failure of the file system is a `Fault`."""
 
 import contextlib
+import json
 import os
 import tempfile
 from pathlib import Path
@@ -53,3 +54,23 @@ def _umask():
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+def read_rows(path, key, what):
+    """{row[key]: row} of the JSON lines at `path` (empty if absent); a line that is not a JSON object
+    with `key` is a Fault naming the line and `what` the file holds."""
+    rows = {}
+    try:
+        with open(path, encoding="utf-8") as f:
+            for number, line in enumerate(f, 1):
+                if line.strip():
+                    try:
+                        row = json.loads(line)
+                        rows[row[key]] = row
+                    except (json.JSONDecodeError, KeyError, TypeError):
+                        raise Fault(f"{path}, line {number}: not {what}") from None
+    except FileNotFoundError:
+        pass
+    except (OSError, UnicodeDecodeError) as err:
+        raise Fault(f"cannot read {path}: {err}") from None
+    return rows

@@ -12,7 +12,6 @@ one build serves every problem (`build`, cached in `ocp.core.cache`).
 """
 
 import json
-import math
 import time
 from dataclasses import dataclass
 

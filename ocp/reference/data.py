@@ -15,7 +15,7 @@ import sysconfig
 from pathlib import Path
 
 from ..core.errors import Fault, InputError
-from ..core.files import write_text
+from ..core.files import read_rows, write_text
 
 INSTANCES = "instances.jsonl"
 INDEX = "index.csv"
@@ -36,21 +36,7 @@ def folder():
 
 def read(path):
     """{id: row} of the JSON lines at `path` (empty if absent); a malformed line is a Fault."""
-    rows = {}
-    try:
-        with open(path, encoding="utf-8") as f:
-            for number, line in enumerate(f, 1):
-                if line.strip():
-                    try:
-                        row = json.loads(line)
-                        rows[row["id"]] = row
-                    except (json.JSONDecodeError, KeyError, TypeError):
-                        raise Fault(f"{path}, line {number}: not a row of the reference set") from None
-    except FileNotFoundError:
-        pass
-    except (OSError, UnicodeDecodeError) as err:
-        raise Fault(f"cannot read {path}: {err}") from None
-    return rows
+    return read_rows(path, "id", "a row of the reference set")
 
 
 _cache = {}

@@ -24,7 +24,6 @@ import csv
 import enum
 import io
 import json
-import math
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 from pathlib import Path

@@ -13,6 +13,7 @@ import math
 import time
 
 from ..core.errors import Fault
+from ..core.files import read_rows
 from ..core.numbers import plus_minus
 from ..core.provenance import git_commit
 from .bifurcation import bifurcation, fold_and_tie
@@ -85,21 +86,7 @@ def stored():
 
 def load(path):
     """{case id: row} of the store at path (empty if absent); a malformed line is a Fault."""
-    rows = {}
-    try:
-        with open(path, encoding="utf-8") as f:
-            for number, line in enumerate(f, 1):
-                if line.strip():
-                    try:
-                        row = json.loads(line)
-                        rows[row["case"]] = row
-                    except (json.JSONDecodeError, KeyError, TypeError):
-                        raise Fault(f"{path}, line {number}: not a result of ocp bifurcation") from None
-    except FileNotFoundError:
-        pass
-    except (OSError, UnicodeDecodeError) as err:
-        raise Fault(f"cannot read {path}: {err}") from None
-    return rows
+    return read_rows(path, "case", "a result of ocp bifurcation")
 
 
 def append(path, row):

@@ -222,7 +222,7 @@ def coverage_summary(path):
         classes = {}
         for r in part:
             classes[r["class"]] = classes.get(r["class"], 0) + 1
-        lines += [f"N = {N}: {len(part)} random instances ({', '.join(f'{k}: {v}' for k, v in sorted(classes.items(), key=str))}); "
+        lines += [f"N = {N}: {len(part)} instances ({', '.join(f'{k}: {v}' for k, v in sorted(classes.items(), key=str))}); "
                   f"{len(same)} with the optimum's structure",
                   f"  stated bound: covers {sum(a <= 1 for a, _ in ratios)} of {len(ratios)} where stated (none stated on "
                   f"{none}); largest |T - T*| / bound = {_g(max((a for a, _ in ratios), default=math.nan))}",

@@ -21,7 +21,8 @@ import runpy
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+HERE = Path(__file__).resolve()       # read now: a script run as __main__ replaces this module's globals
+ROOT = HERE.parents[1]
 #: keyword arguments whose text cannot change what a command computes
 TEXT_KEYWORDS = {"help", "description", "epilog"}
 #: package data every part reads, hashed whole (what publish.py writes itself is excluded)
@@ -66,7 +67,7 @@ def imported_sources():
         path = getattr(module, "__file__", None)
         if path and path.endswith(".py"):
             path = Path(path).resolve()
-            if path.is_relative_to(ROOT) and not path.is_relative_to(ROOT / "tests") and path != Path(__file__).resolve():
+            if path.is_relative_to(ROOT) and not path.is_relative_to(ROOT / "tests") and path != HERE:
                 found.add(str(path.relative_to(ROOT)))
     return sorted(found)
 

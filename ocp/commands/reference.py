@@ -9,6 +9,7 @@ import sys
 
 from ..core.arguments import input_file, jobs, output_folder
 from ..core.errors import InputError
+from ..core.heartbeat import heartbeat
 
 
 def add_commands(sub):
@@ -61,7 +62,9 @@ def run_generate(args):
     again = [r for r in done.values() if generate.stale(r)]
     if again:
         print(f"{len(again)} rows refined again (their refinement predates the current one)", file=sys.stderr)
-    with cf.ProcessPoolExecutor(workers) as pool:
+    n = 0
+    with cf.ProcessPoolExecutor(workers) as pool, heartbeat(sys.stderr, lambda: f"{n} of {len(todo)} done, "
+                                                                                  f"{workers} worker(s) computing"):
         futures = {pool.submit(generate.refine_again, r): r for r in again}
         futures.update({pool.submit(generate.compute, i): i for i in todo})
         todo = again + todo

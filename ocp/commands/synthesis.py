@@ -41,6 +41,7 @@ def add_synthesis(p):
 
 def run_synthesis(args):
     from ..core import plotting
+    from ..core.heartbeat import heartbeat
     from ..core.output import print_json
     from ..synthesis.field import Window, check, save, summary, synthesize
     from ..figures.synthesis import draw_map
@@ -57,7 +58,9 @@ def run_synthesis(args):
         data = stem.parent / (stem.name + ".npz")
         if not args.json:
             print(f"[{n}/{len(kappas)}] {args.problem}, {reading}, kappa = {kappa:g} ...", file=sys.stderr, flush=True)
-        s = synthesize(args.problem, kappa, reading, Window(*values), horizon)
+        with heartbeat(None if args.json else sys.stderr, lambda: f"[{n}/{len(kappas)}] kappa = {kappa:g}: the field "
+                                                                  f"of extremals"):
+            s = synthesize(args.problem, kappa, reading, Window(*values), horizon)
         save(s, data)                               # written whole, or a Fault (ocp.core.files)
         with plotting.style():
             figures = plotting.save(draw_map(s), stem, chosen)

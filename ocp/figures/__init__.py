@@ -14,6 +14,7 @@ from typing import Callable
 
 from ..core import plotting
 from ..core.errors import InputError
+from ..core.heartbeat import heartbeat
 from . import batista, failure_map, finch, suite, synthesis, vibrating_pivot
 
 
@@ -77,7 +78,8 @@ def write(out_dir, only=None, formats=("png", "pdf"), store=None, progress=None)
     """Write the figures named in `only` (default: all) to out_dir; returns {name: paths or the
     reason it was skipped}. The store figures need `store`, an `ocp bench` results file: without
     one they are skipped, unless named in `only` (then InputError). `progress`: a stream that gets
-    a line per figure as it is done, with its time (a failure leaves only its one-line error)."""
+    a line per figure as it is done, with its time, and one every few seconds while a long one runs
+    (`ocp.core.heartbeat`; a failure leaves only its one-line error)."""
     names = list(FIGURES) if not only else list(dict.fromkeys(only))
     unknown = [n for n in names if n not in FIGURES]
     if unknown:
@@ -97,8 +99,9 @@ def write(out_dir, only=None, formats=("png", "pdf"), store=None, progress=None)
             if progress:
                 print(f"[{n}/{len(names)}] {name}: skipped (no results store)", file=progress, flush=True)
             continue
-        data = fig.data(store) if fig.from_store else fig.data()
-        out[name] = fig.write(data, Path(out_dir) / name, formats)
+        with heartbeat(progress, lambda: f"[{n}/{len(names)}] {name}: running"):
+            data = fig.data(store) if fig.from_store else fig.data()
+            out[name] = fig.write(data, Path(out_dir) / name, formats)
         if progress:
             print(f"[{n}/{len(names)}] {name}: {time.perf_counter() - begun:.1f} s", file=progress, flush=True)
     return out

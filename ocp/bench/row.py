@@ -145,6 +145,12 @@ class Measurement:
     times: tuple[Repeat, ...] = ()
     every_start: tuple[StartRecord, ...] = ()
 
+    @property
+    def solver_time_s(self):
+        """The solver's own wall time, build and NLP solves of every start (for the search, its
+        total): what the charts and profiles put on their time axis, apart from the suite's checking."""
+        return self.build_time_s + self.solve_time_s
+
     def direct_answer(self):
         """The direct answer measured, as `ocp.solving.classify` reads it."""
         return DirectAnswer(status=self.direct_status, T=self.T, T_bound=self.T_error, branch=self.branch,

@@ -15,7 +15,6 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from . import sampling
 from .core.errors import InputError
 from .core.numbers import digits, order, plus_minus, printed_error
 from .core.problem import Problem, angle_text
@@ -426,6 +425,8 @@ class Solution:
 
 def sample_extremal(problem, extremal, t=None, every=None):
     """Samples of an extremal of the search (its arcs between its switch times, its costate)."""
+    from . import sampling
+
     knots = (0.0, *extremal.switch_times, extremal.T)
     return sampling.sample(problem.x0, problem.kappa, knots, extremal.signs, _times(knots, t, every),
                            problem.target(extremal.branch), "the extremal of the complete search",
@@ -434,12 +435,16 @@ def sample_extremal(problem, extremal, t=None, every=None):
 
 def sample_direct(problem, direct, t=None, every=None):
     """Samples of a direct answer: its piecewise-constant control on its own grid, re-integrated."""
+    from . import sampling
+
     knots, values = sampling.runs(direct.t, direct.u)
     return sampling.sample(problem.x0, problem.kappa, knots, values, _times(knots, t, every),
                            problem.target(direct.branch), f"the direct answer, {direct_method(direct.method)}")
 
 
 def _times(knots, t, every):
+    from . import sampling
+
     if (t is None) == (every is None):
         raise InputError("sample: give the times t or a spacing every (one of them)")
     return sampling.times(knots, every) if every is not None else t

@@ -104,7 +104,6 @@ def run(args):
 
     from .. import solving
     from ..core.output import print_json, solver_output
-    from ..figures.solution import Export
     from ..core.problem import make
     from ..direct.solve import MISS_TOL_RANGE
     from ..direct.watch import stderr_progress
@@ -117,12 +116,15 @@ def run(args):
     miss_tol = None if args.miss_tol is None else finite("miss-tol", args.miss_tol, f"a number from {low:g} to {high:g}",
                                                          low, high)
     limit = finite("time-limit", args.time_limit, "seconds from 0.01 to 1e6", 0.01, 1e6)
-    export = Export.of(args.sample, args.csv, args.plot, args.json)
+    export = None
+    if (args.sample, args.csv, args.plot) != (None, None, None):     # the drawing stack only when asked for
+        from ..figures.solution import Export
+        export = Export.of(args.sample, args.csv, args.plot, args.json)
     with solver_output("stderr"):
         result = solving.solve(problem, transcription, args.solver, dict(args.option), miss_tol=miss_tol,
                                search=not args.no_refine, trusted=args.allow_unsafe_options, time_limit=limit,
                                progress=stderr_progress())
-    exported, lines = export.write(result)
+    exported, lines = export.write(result) if export else ({}, [])
     if args.json:
         print_json(dict(result.to_dict(), **exported))
         for line in lines:

@@ -1,8 +1,8 @@
 """Independent re-simulation of a control: scipy's DOP853 at tight tolerances, restarted at every
-discontinuity of u. It shares nothing with the transcription but the model's right-hand side."""
+discontinuity of u. It shares nothing with the transcription but the model's right-hand side.
+scipy is imported at the first re-simulation: a solve without a direct answer never loads it."""
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from . import model
 
@@ -11,6 +11,8 @@ RTOL = ATOL = 1e-12
 
 def flow(x0, u, duration, kappa, rtol=RTOL, atol=ATOL):
     """State after `duration` under constant u from x0 (duration >= 0)."""
+    from scipy.integrate import solve_ivp         # here: importing scipy.integrate costs more than a search
+
     x0 = np.asarray(x0, dtype=float)
     if duration <= 0:
         return x0.copy()

@@ -2,6 +2,7 @@
 
     python benchmarks/search_speed.py [--repeats 5]
     python benchmarks/search_speed.py --kappa-table [--chart DIR] [--repeats 3]
+    python benchmarks/search_speed.py --processes [--repeats 5]
 
 For each standard case: the textbook CasADi method (multiple shooting, N = 200, RK4 with M = 4
 steps, IPOPT, one start: the straight guess; its NLP built beforehand, so the time is the solve's)
@@ -12,13 +13,19 @@ two whole processes: `ocp solve swing-up --kappa 1` and `ocp --help` (median of 
 absolute times, are the finding: the machine is shared.
 
 With --kappa-table: the cost against kappa (KAPPAS, 0.05 to 10) of both problems from their
-standard starts, and of FAST starts: the search alone (warm, median of `repeats`), the extremals it
-integrated, T and its switches; beside the textbook method at the least N of N_LADDER with
-|T - T*| < 1e-4 (one solve per N, from the straight guess; "-" where no N of the ladder reaches
-it within TEXTBOOK_BUDGET s of solves), and the ratio of the two times. --chart DIR also draws it (DIR/search_cost.png).
+standard starts, and of FAST starts: the search alone (warm, median of `repeats` where a run takes
+under 1 s, cut at SEARCH_LIMIT s and marked), the extremals it integrated, T and its switches;
+beside the textbook method at the N it needs for |T - T*| < TEXTBOOK_TOL (N doubled along N_LADDER,
+one solve per N from the straight guess; "needs > N" with its |T - T*| where no rung reaches it
+within TEXTBOOK_BUDGET s of solves), and the ratio of the two times. --chart DIR also draws it
+(DIR/search_cost.png).
+
+With --processes: per standard case, a whole `ocp solve KIND --kappa K --json` process and the
+search alone (warm), beside the goals of issue 22 (PROCESS_GOAL_S, SEARCH_GOAL_S).
 """
 
 import argparse
+import math
 import platform
 import statistics
 import subprocess
@@ -38,8 +45,14 @@ KAPPAS = (0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0)
 FAST = [("swing-up", 1.0, (0.0, 5.0)), ("swing-up", 1.0, (0.0, 10.0)), ("damping", 1.0, (0.0, 10.0)),
         ("swing-up", 1.0, (0.0, 20.0))]
 N_LADDER = (50, 100, 200, 400, 800)
+#: the goal of |T - T*| for the textbook method's N
+TEXTBOOK_TOL = 1e-4
 #: seconds of textbook solves per case after which its ladder is left
-TEXTBOOK_BUDGET = 30.0
+TEXTBOOK_BUDGET = 15.0
+#: seconds of search per case in the kappa table: a longer one is cut there and said so
+SEARCH_LIMIT = 30.0
+#: the goals of issue 22 on the standard cases: a whole `ocp solve` process, the search alone (warm)
+PROCESS_GOAL_S, SEARCH_GOAL_S = 0.5, 0.005
 
 
 def median_time(fn, repeats):
@@ -73,9 +86,12 @@ def process_time(args, repeats=3):
 
 
 def textbook_at_accuracy(problem, T_star):
-    """(N, seconds) of the first N of N_LADDER whose textbook solve is verified with |T - T*| < 1e-4,
-    or (None, seconds of the last tried); the ladder is left once its solves took TEXTBOOK_BUDGET s."""
-    seconds, spent = None, 0.0
+    """(N, seconds, |T - T*| at the last N tried): N doubled along N_LADDER until the textbook solve
+    (from the straight guess) is verified with |T - T*| < TEXTBOOK_TOL, then that solve timed again
+    with its NLP built (as in the standard table); N None where no rung reached it, or its solves
+    took TEXTBOOK_BUDGET s (seconds is then the last N tried: "needs > N"; |T - T*| inf if that
+    solve was not verified)."""
+    spent, error, tried = 0.0, math.inf, None
     for N in N_LADDER:
         if spent > TEXTBOOK_BUDGET:
             break
@@ -83,11 +99,22 @@ def textbook_at_accuracy(problem, T_star):
         straight = default_guesses(problem, N)[0]
         start = time.perf_counter()
         d = direct.solve(problem, method, guess=straight)
-        seconds = time.perf_counter() - start
-        spent += seconds
-        if d.success and abs(d.T - T_star) < 1e-4:
-            return N, seconds
-    return None, seconds
+        spent, tried = spent + time.perf_counter() - start, N
+        error = abs(d.T - T_star) if d.success else math.inf
+        if error < TEXTBOOK_TOL:
+            start = time.perf_counter()
+            direct.solve(problem, method, guess=straight)
+            return N, time.perf_counter() - start, error
+    return None, tried, error
+
+
+def timed_search(problem, repeats):
+    """(seconds, Search): the search alone, warm, cut at SEARCH_LIMIT; the median of `repeats` runs
+    where one takes less than a second."""
+    seconds, found = median_time(lambda: search(problem, time_limit=SEARCH_LIMIT), 1)
+    if seconds < 1.0 and repeats > 1:
+        seconds, found = median_time(lambda: search(problem, time_limit=SEARCH_LIMIT), repeats)
+    return seconds, found
 
 
 def kappa_table(repeats, chart):
@@ -98,18 +125,31 @@ def kappa_table(repeats, chart):
     rows = []
     with solver_output("devnull"):
         for problem in problems:
-            t_search, found = median_time(lambda: search(problem), repeats)
-            best = found.best
-            N, t_text = textbook_at_accuracy(problem, best.T)
-            rows.append((problem, t_search, found, N, t_text))
-            print(f"  {problem.describe()}: search {t_search:.4f} s, textbook N = {N}", file=sys.stderr, flush=True)
-    print("| problem | start | kappa | T | switches | extremals | search s | textbook N (\|dT\| < 1e-4) | its s | ratio |")
+            t_search, found = timed_search(problem, repeats)
+            N, t_text, error = (None, None, None) if found.best is None else textbook_at_accuracy(problem, found.best.T)
+            rows.append((problem, t_search, found, N, t_text, error))
+            print(f"  {problem.describe()}: search {t_search:.4f} s ({found.status}), textbook N = {N}",
+                  file=sys.stderr, flush=True)
+    print(f"| problem | start | kappa | T | switches | extremals | search s | textbook N (\\|dT\\| < {TEXTBOOK_TOL:g}) "
+          f"| its s | ratio |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
-    for problem, t_search, found, N, t_text in rows:
+    for problem, t_search, found, N, t_text, error in rows:
         best = found.best
-        text = f"{N} | {t_text:.2f} | {t_text / t_search:.0f}" if N is not None else f"- (N <= {N_LADDER[-1]}) | - | -"
-        print(f"| {problem.kind} | ({problem.x0[0]:.4g}, {problem.x0[1]:.4g}) | {problem.kappa:g} | "
-              f"{best.T:.10f} | {best.n_switches} | {found.coverage.extremals} | {t_search:.4f} | {text} |")
+        if best is None:
+            text = "- | - | -"
+        elif N is not None:
+            text = f"{N} | {t_text:.2f} | {t_text / t_search:.0f}"
+        else:                                           # t_text: the last N tried
+            there = "not verified" if math.isinf(error) else f"\\|dT\\| = {error:.0e}"
+            text = f"needs > {t_text} ({there} at {t_text}) | - | -"
+        T = "none found" if best is None else f"{best.T:.10f}"
+        cut = "" if found.status == "optimal" else f" ({found.status})"
+        print(f"| {problem.kind} | ({problem.x0[0]:.4g}, {problem.x0[1]:.4g}) | {problem.kappa:g} | {T}{cut} | "
+              f"{'-' if best is None else best.n_switches} | {found.coverage.extremals} | {t_search:.4f} | {text} |")
+    print(f"\nsearch: warm, median of {repeats} where under 1 s, cut at {SEARCH_LIMIT:g} s (status shown if not "
+          f"optimal); textbook: multiple shooting (RK4, M = 4, IPOPT, the straight guess), N doubled from "
+          f"{N_LADDER[0]} to {N_LADDER[-1]}, one solve per N, left after {TEXTBOOK_BUDGET:g} s of solves; ratio: "
+          f"textbook s / search s")
     if chart:
         from pathlib import Path
         from ocp.core import plotting
@@ -121,13 +161,29 @@ def kappa_table(repeats, chart):
                 ax.loglog([r[0].kappa for r in mine], [r[1] for r in mine], marker=marker, label=f"search, {kind}")
                 reached = [r for r in mine if r[3] is not None]
                 ax.loglog([r[0].kappa for r in reached], [r[4] for r in reached], marker=marker, linestyle="--",
-                          label=f"textbook at |dT| < 1e-4, {kind}")
+                          label=f"textbook at |dT| < {TEXTBOOK_TOL:g}, {kind}")
             ax.set_xlabel("kappa")
             ax.set_ylabel("seconds (warm)")
             ax.set_title("cost of the minimum time against kappa, standard starts")
             ax.legend()
             paths = plotting.save(fig, Path(chart) / "search_cost", formats=("png",))
-        print(f"\nchart: {', '.join(map(str, paths))}")
+        print(f"\n![cost against kappa]({paths[0]})")
+
+
+def processes(repeats):
+    """Per standard case: a whole `ocp solve KIND --kappa K --json` process (median of 3) and the
+    search alone (warm, in this process, median of `repeats`), beside the goals of issue 22."""
+    search(ocp.swing_up(1.0))                           # load the compiled kernels
+    print(f"| case | whole `ocp solve ... --json` process s (goal {PROCESS_GOAL_S:g}) | search alone s, warm "
+          f"(goal {SEARCH_GOAL_S:g}) |")
+    print("| --- | --- | --- |")
+    for kind, kappa in CASES:
+        problem = ocp.core.problem.make(kind, kappa)
+        whole = process_time([sys.executable, "-m", "ocp.cli", "solve", kind, "--kappa", f"{kappa:g}", "--json"])
+        alone, _ = median_time(lambda: search(problem), repeats)
+        print(f"| {kind} kappa={kappa:g} | {whole:.2f} | {alone:.4f} |")
+    print(f"\n`ocp solve --help`: {process_time([sys.executable, '-m', 'ocp.cli', 'solve', '--help']):.2f} s "
+          f"(median of 3)")
 
 
 def main():
@@ -135,12 +191,14 @@ def main():
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--kappa-table", action="store_true", help="the cost against kappa (see the module doc)")
     parser.add_argument("--chart", metavar="DIR", help="with --kappa-table: draw DIR/search_cost.png")
+    parser.add_argument("--processes", action="store_true", help="whole processes and the search alone on the "
+                                                                 "standard cases (see the module doc)")
     args = parser.parse_args()
     repeats = args.repeats
-    if args.kappa_table:
+    if args.kappa_table or args.processes:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
         print(f"commit {commit}, Python {platform.python_version()}, {platform.machine()}, repeats {repeats}\n")
-        return kappa_table(repeats, args.chart)
+        return kappa_table(repeats, args.chart) if args.kappa_table else processes(repeats)
     textbook = ocp.MultipleShooting(N=200, integrator="rk4", M=4)
     ocp.solve(ocp.swing_up(1.0))                        # load the compiled kernels
     rows = []

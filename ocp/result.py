@@ -44,9 +44,11 @@ class SolveStatus(_Named):
     OPTIMAL = 0
     BEST_FOUND = 1
     DIRECT_ONLY = 2
+    STOPPED = 3
     NO_EXTREMAL = -1
     NOT_VERIFIED = -2
     DIRECT_FAILED = -3
+    STOPPED_EMPTY = -4
 
 
 STATUS_MESSAGES = {
@@ -56,9 +58,11 @@ STATUS_MESSAGES = {
                             "global optimality is not proved",
     SolveStatus.DIRECT_ONLY: "the direct transcription's answer, its control verified by re-simulation; not compared "
                              "with the extremals, so optimality is unknown",
+    SolveStatus.STOPPED: "stopped at the time limit: the best extremal found so far, not proven optimal",
     SolveStatus.NO_EXTREMAL: "no extremal reaches the target set before the largest horizon",
     SolveStatus.NOT_VERIFIED: "the best extremal misses the target when re-simulated independently",
     SolveStatus.DIRECT_FAILED: "the direct transcription found no verified answer (and no search was asked for)",
+    SolveStatus.STOPPED_EMPTY: "stopped at the time limit before any extremal reaching the target set was found",
 }
 
 
@@ -331,8 +335,8 @@ class Solution:
                 "coverage": None if self.coverage is None else self.coverage.to_dict(),
                 "certificate": None if self.certificate is None else self.certificate.to_dict(),
             })
-        if self.answer is not None and not self.success:
-            out["coverage"] = None if self.coverage is None else self.coverage.to_dict()
+        if self.coverage is not None and not self.success:      # what was scanned, found wanting
+            out["coverage"] = self.coverage.to_dict()
         x = self.crosscheck if self.success else None
         out["crosscheck"] = None if x is None else {
             "formula": x.formula, "max_deviation": x.max_deviation, "T": x.T, "switch_times": list(x.switch_times),

@@ -15,6 +15,7 @@ With `search=False` the direct answer alone is returned: `optimal` is then unkno
 """
 
 import math
+import threading
 import time
 import numpy as np
 
@@ -77,11 +78,33 @@ def classify(direct, answer, ties, extremals, horizon):
     return DirectClass.BEYOND_HORIZON if direct.T > horizon else DirectClass.WRONG_STRUCTURE
 
 
-def _lines(progress):
-    """The search's progress reports as lines of text for `progress`, from QUIET_S seconds on."""
+def _search(problem, horizon, margin, time_limit, progress):
+    """The search, its reports given to `progress` as lines from QUIET_S seconds on. Until its first
+    report (which comes after its first integration, where the compiled kernels are loaded, or
+    compiled, the first time after an install) a line every second from QUIET_S on says so."""
     if progress is None:
-        return None
-    return lambda report: report.elapsed >= QUIET_S and progress(str(report))
+        return search_extremals(problem, horizon, margin, time_limit, None)
+    begun, reported = time.perf_counter(), threading.Event()
+
+    def lines(report):
+        reported.set()
+        if report.elapsed >= QUIET_S:
+            progress(str(report))
+
+    def meanwhile():
+        wait = QUIET_S
+        while not reported.wait(wait):
+            progress(f"search {time.perf_counter() - begun:.0f} s: in its first integration (where the compiled "
+                     f"Taylor kernels are loaded; compiled, the first time after an install, in about a minute)")
+            wait = 1.0
+
+    thread = threading.Thread(target=meanwhile, daemon=True)
+    thread.start()
+    try:
+        return search_extremals(problem, horizon, margin, time_limit, lines)
+    finally:
+        reported.set()
+        thread.join()
 
 
 def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_tol=None,
@@ -92,7 +115,8 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     run only when `method` is given or `search` is False; the answer comes from the search unless
     `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least.
     miss_tol None: `ocp.direct.MISS_TOL`. time_limit: seconds of search at most, then the best answer
-    so far, not proven optimal (`ocp.indirect.search`). progress: None or a callable given a line of
+    so far, not proven optimal (`ocp.indirect.search`): status STOPPED, or STOPPED_EMPTY if none was
+    found. progress: None or a callable given a line of
     text about what runs (the direct solve's stage and iteration, the search's horizon and
     arrivals), every second once that stage has run QUIET_S seconds."""
     if not isinstance(problem, Problem):
@@ -115,13 +139,13 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     if direct is not None and direct.success and math.isfinite(direct.T):
         horizon = direct.T * (1 + margin) / (1 - HORIZON_BAND)
     begun = time.perf_counter()
-    found = search_extremals(problem, horizon, margin, time_limit, _lines(progress))
+    found = _search(problem, horizon, margin, time_limit, progress)
     search_time = time.perf_counter() - begun
     answer, ties, runner_up = _ranked(found.arrivals)
     begun = time.perf_counter()
     miss = certificate = crosscheck = None
     if answer is None:
-        status = SolveStatus.NO_EXTREMAL
+        status = SolveStatus.STOPPED_EMPTY if found.coverage.stopped else SolveStatus.NO_EXTREMAL
     else:
         miss = 0.0
         if answer.signs:
@@ -132,6 +156,8 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
             status = SolveStatus.NOT_VERIFIED
         elif found.coverage.complete:
             status = SolveStatus.OPTIMAL
+        elif found.coverage.stopped:
+            status = SolveStatus.STOPPED
         else:
             status = SolveStatus.BEST_FOUND
     certificate_time = time.perf_counter() - begun

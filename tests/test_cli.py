@@ -91,6 +91,17 @@ def test_failed_solve_says_so_first_and_exits_1():
     assert proc.returncode == 1 and out["success"] is False and out["status"] == "direct_failed" and "T" not in out
 
 
+def test_the_time_limit_ends_a_hard_solve_marked_as_not_proven_optimal():
+    """Damping at kappa = 0.05 from a moving start, 0.01 s of search: "stopped" with an answer
+    (exit 0, optimal "unknown") or "stopped_empty" without one (exit 1, no T), printed either way."""
+    args = ("solve", "damping", "--kappa", "0.05", "--x0", "3", "0.5", "--time-limit", "0.01")
+    out = json.loads(run(*args, "--json").stdout)
+    proc = run(*args)
+    assert out["status"] in ("stopped", "stopped_empty") and out["coverage"]["stopped"] and out["optimal"] == "unknown"
+    assert out["success"] == (out["status"] == "stopped") == ("T" in out)
+    assert proc.returncode == (0 if out["success"] else 1) and "stopped at the time limit" in proc.stdout
+
+
 def test_a_direct_stage_is_classified_against_the_search():
     proc = run("solve", "swing-up", "--kappa", "0.8", "--x0", "0.3", "-0.1", "--direct", "--json")
     out = json.loads(proc.stdout)

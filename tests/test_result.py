@@ -35,6 +35,9 @@ def failures(with_search):
         "not verified": replace(with_search, status=SolveStatus.NOT_VERIFIED, best=None, resim_miss=1e-3),
         "no extremal": replace(with_search, status=SolveStatus.NO_EXTREMAL, best=None, answer=None, ties=(), runner_up=None,
                                extremals=(), certificate=None, crosscheck=None, resim_miss=None, direct_class=None),
+        "stopped empty": replace(with_search, status=SolveStatus.STOPPED_EMPTY, best=None, answer=None, ties=(),
+                                 runner_up=None, extremals=(), certificate=None, crosscheck=None, resim_miss=None,
+                                 direct_class=None, coverage=replace(with_search.coverage, stopped=True)),
     }
 
 
@@ -44,7 +47,7 @@ def test_every_failure_status_is_covered(with_search):
 
 
 @pytest.mark.parametrize("name", ["direct misses", "direct not converged", "direct solver error", "not verified",
-                                  "no extremal"])
+                                  "no extremal", "stopped empty"])
 def test_a_failure_says_so_first_and_claims_no_time(with_search, name):
     sol = failures(with_search)[name]
     assert not sol.success and sol.T_error is None and sol.switch_time_error is None

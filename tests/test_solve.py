@@ -164,3 +164,52 @@ def test_the_taylor_kernel_integrates_the_costate_derived_by_automatic_different
         taylor._series(y, u, kappa, taylor.PRECISE[1], c)
         assert np.allclose(c[1, :2], model.rhs(y[:2], u, kappa), rtol=0, atol=1e-15)
         assert np.allclose(c[1, 2:], model.costate_rhs(y[:2], y[2:], u, kappa), rtol=0, atol=1e-15)
+
+
+def test_a_search_cut_by_the_time_limit_is_stopped_not_optimal(monkeypatch):
+    """The same arrivals, their scan marked as stopped by the time limit: status STOPPED, the answer
+    kept and verified, optimality unknown (not BEST_FOUND, which means intervals left unresolved)."""
+    import dataclasses
+
+    from ocp import solving
+    from ocp.indirect import searching
+
+    problem = ocp.swing_up(1.0)
+    found = searching.search(problem)
+    cut = searching.Search(found.arrivals, dataclasses.replace(found.coverage, stopped=True), found.notes)
+    monkeypatch.setattr(solving, "search_extremals", lambda *args: cut)
+    sol = ocp.solve(problem)
+    assert sol.status == SolveStatus.STOPPED and sol.success and sol.optimal is None
+    assert sol.T == found.best.T and sol.certified
+    assert sol.to_dict()["status"] == "stopped" and "not proven optimal" in sol.to_dict()["message"]
+
+
+def test_a_tiny_time_limit_on_a_hard_case_ends_it_and_says_so():
+    """Damping at kappa = 0.05 from a moving start (tens of seconds of search): 0.01 s of it ends
+    with STOPPED (an answer, not proven optimal) or STOPPED_EMPTY (none: a failure)."""
+    sol = ocp.solve(ocp.damping(0.05, x0=(3.0, 0.5)), time_limit=0.01)
+    assert sol.status in (SolveStatus.STOPPED, SolveStatus.STOPPED_EMPTY) and sol.coverage.stopped
+    assert sol.success == (sol.status == SolveStatus.STOPPED) == (sol.best is not None)
+    assert sol.optimal is None and any("time limit" in n for n in sol.notes)
+
+
+def test_a_search_silent_past_quiet_s_is_reported_until_it_reports_itself(monkeypatch):
+    """A first integration that takes long (the kernels compiled after an install) is not silent:
+    a line every second from QUIET_S on (shortened here) until the search's own first report."""
+    import time
+
+    from ocp import solving
+    from ocp.indirect import searching
+
+    found = searching.search(ocp.swing_up(1.0))
+
+    def slow(problem, horizon, margin, time_limit, progress):
+        time.sleep(0.3)
+        progress(searching.Progress(0.3, 5.0, 1, 0.1, 1, 0, math.nan))
+        return found
+
+    monkeypatch.setattr(solving, "QUIET_S", 0.1)
+    monkeypatch.setattr(solving, "search_extremals", slow)
+    lines = []
+    ocp.solve(ocp.swing_up(1.0), progress=lines.append)
+    assert lines[0].startswith("search 0 s: in its first integration") and "scanning arrivals" in lines[-1]

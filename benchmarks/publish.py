@@ -15,14 +15,18 @@ Parts (all by default, in this order):
     failure-maps   ocp failure-map swing-up --kappa 1 --grid 21 15 --jobs 2 for IPOPT, fatrop and
                    sqpmethod (fair) -> benchmarks/results/failure-maps/, their table in
                    benchmarks/README.md
-    speed          python benchmarks/search_speed.py; python benchmarks/synthesis_speed.py
-                   -> the search against the textbook method, the maps against per-state solves
+    speed          python benchmarks/search_speed.py; python benchmarks/search_speed.py --kappa-table
+                   --chart docs/figures; python benchmarks/synthesis_speed.py
+                   -> the search against the textbook method, on the standard cases and against
+                      kappa (docs/figures/search_cost.png), the maps against per-state solves
                       (README.md)
     bifurcation    ocp bifurcation --store benchmarks/results/bifurcation.jsonl --jobs 2   (fresh)
                    -> ocp/synthesis/data/bifurcation.jsonl (read by ocp verify) and the table of
                       the values kappa_n in README.md
     timings        ocp solve, ocp verify (and, with --time-tests, python -m pytest), timed here,
-                   with the times of the parts above -> the table "How long things take" in README.md
+                   with the times of the parts above, and python benchmarks/search_speed.py
+                   --processes (whole ocp solve processes and the search alone on the standard
+                   cases) -> the table "How long things take" in README.md
 
 Each part records, in benchmarks/results/published.json, the commit it measured, the command, the
 environment (`ocp.bench.environment`), the time, and the code it ran: every project file its
@@ -206,9 +210,11 @@ def failure_maps(commit, jobs):
 
 def speed(commit):
     record = {"commit": commit, "command": "", "seconds": 0.0, "environment": environment()}
-    for name, block in (("search_speed.py", "search-speed"), ("synthesis_speed.py", "synthesis-speed")):
-        shown = f"python benchmarks/{name}"
-        seconds, out = run([sys.executable, f"benchmarks/{name}"], shown)
+    for args, block in ((["search_speed.py"], "search-speed"),
+                        (["search_speed.py", "--kappa-table", "--chart", "docs/figures"], "search-cost"),
+                        (["synthesis_speed.py"], "synthesis-speed")):
+        shown = f"python benchmarks/{' '.join(args)}"
+        seconds, out = run([sys.executable, f"benchmarks/{args[0]}", *args[1:]], shown)
         record["command"] = f"{record['command']} && {shown}" if record["command"] else shown
         record["seconds"] += seconds
         replace_block(ROOT / "README.md", block, f"    {shown}\n\n{out.strip()}\n\n{stamp(record)}")
@@ -258,6 +264,9 @@ def timings(commit, records, time_tests, previous):
               "rows": [list(r) for r in rows], "tests": tests}
     lines = ["| command | wall time | measured at |", "| --- | --- | --- |"]
     lines += [f"| `{c}` | {_duration(s)} | {k[:10]} |" for c, s, k in rows]
+    shown = "python benchmarks/search_speed.py --processes"
+    _, processes = run([sys.executable, "benchmarks/search_speed.py", "--processes"], shown)
+    lines += ["", f"The standard cases, a whole process and the search alone (`{shown}`):", "", processes.strip()]
     replace_block(ROOT / "README.md", "timings", "\n".join(lines) + f"\n\n{stamp(record)}")
     return record
 

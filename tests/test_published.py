@@ -20,7 +20,7 @@ BLOCKS = {
     "bench": [("benchmarks/README.md", "bench-run"), ("benchmarks/README.md", "bench-environment")],
     "figures": [("README.md", "figures")],
     "failure-maps": [("benchmarks/README.md", "failure-maps")],
-    "speed": [("README.md", "search-speed"), ("README.md", "synthesis-speed")],
+    "speed": [("README.md", "search-speed"), ("README.md", "search-cost"), ("README.md", "synthesis-speed")],
     "bifurcation": [("README.md", "bifurcation")],
     "timings": [("README.md", "timings"), ("README.md", "verify-totals")],
 }

@@ -104,7 +104,7 @@ def textbook_at_accuracy(problem, T_star):
         error = abs(d.T - T_star) if d.success else math.inf
         if error < TEXTBOOK_TOL:
             start = time.perf_counter()
-            direct.solve(problem, method, guess=straight)
+            direct.solve(problem, method, options=cap, guess=straight)     # the same options: the NLP built
             return N, time.perf_counter() - start, error
     return None, tried, error
 
@@ -124,13 +124,13 @@ def kappa_table(repeats, chart):
     problems += [ocp.core.problem.make(kind, kappa, x0) for kind, kappa, x0 in FAST]
     search(problems[0])                                 # load the compiled kernels
     rows = []
-    with solver_output("devnull"):
-        for problem in problems:
+    for problem in problems:
+        with solver_output("devnull"):
             t_search, found = timed_search(problem, repeats)
             N, t_text, error = (None, None, None) if found.best is None else textbook_at_accuracy(problem, found.best.T)
-            rows.append((problem, t_search, found, N, t_text, error))
-            print(f"  {problem.describe()}: search {t_search:.4f} s ({found.status}), textbook N = {N}",
-                  file=sys.stderr, flush=True)
+        rows.append((problem, t_search, found, N, t_text, error))
+        print(f"  {problem.describe()}: search {t_search:.4f} s ({found.status}), textbook N = {N}",
+              file=sys.stderr, flush=True)
     print(f"| problem | start | kappa | T | switches | extremals | search s | textbook N (\\|dT\\| < {TEXTBOOK_TOL:g}) "
           f"| its s | ratio |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")

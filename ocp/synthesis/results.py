@@ -16,7 +16,7 @@ from ..core.errors import Fault
 from ..core.files import read_rows
 from ..core.numbers import plus_minus
 from ..core.provenance import git_commit
-from .bifurcation import bifurcation, fold_and_tie
+from .bifurcation import ordinal, bifurcation, fold_and_tie
 from .cases import CASES, TieCase, find
 
 #: what Finch (2015) prints for a case: (key in ocp/papers/data/finch2015.toml, the text printed)
@@ -37,16 +37,75 @@ def compute(case):
     start = time.perf_counter()
     if case.reading == "plane":
         return dict(plane(case), located=case.located, commit=git_commit(), time_s=time.perf_counter() - start)
+    extra = {}
     if isinstance(case, TieCase):
         b = fold_and_tie(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi,
                          case.competitor)
+        extra = evidence(case, b) if case.above is not None else {"bound": "lower"}
     else:
         b = bifurcation(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi)
-    row = dict(b.to_dict(), case=case.id, asymptote=gibbs_constant() / (2 * case.n),
-               bound="lower" if isinstance(case, TieCase) else None,
+    row = dict(b.to_dict(), case=case.id, asymptote=gibbs_constant() / (2 * case.n), bound=None,
                published=PUBLISHED.get(case.id, (None, None))[1], located=case.located,
                commit=git_commit(), time_s=time.perf_counter() - start)
+    row.update(extra)
+    if row["bound"] == "lower":
+        row["mechanism"] += f" (a lower bound of kappa_{case.n}: other regions of {case.n + 1} switches are not excluded)"
+    elif extra:
+        w = extra["sweep"]
+        row["mechanism"] += (f"; no other region of {case.n + 1} switches remains: at kappa = {case.above:g} every crossed "
+                             f"{ordinal(case.n + 1)} switch of {w['angles']} final costate angles over (0, pi) (the "
+                             f"mirror image carries the rest) with time-to-go up to {case.s_max:g} has a positive gap, "
+                             f"the least {w['least_gap']:.3g} at psi = {w['least_psi']:.4f}: kappa_{case.n} lies in "
+                             f"[{b.kappa:.12g}, {case.above:g}], and is this value unless a region of {case.n + 1} "
+                             f"switches is born and dies again between the two")
     return row
+
+
+def sweep_rows(case):
+    """The stored sweep of a TieCase (data/CASE.sweep_file): {psi: row} of `bifurcation.scan`."""
+    from importlib import resources
+
+    return read_rows(resources.files("ocp.synthesis") / "data" / case.sweep_file, "psi", "a row of a sweep")
+
+
+def sweep(case, path):
+    """Compute (resumed) the sweep of a TieCase into path: `bifurcation.scan` of the (n + 1)-th switch
+    at kappa = case.above over psi = pi (i + 1/2) / case.angles, i < case.angles."""
+    from .bifurcation import scan
+
+    done = read_rows(path, "psi", "a row of a sweep")
+    psis = [p for p in (math.pi * (i + 0.5) / case.angles for i in range(case.angles)) if p not in done]
+    for row in scan(case.kind, case.above, case.reading, case.n + 1, psis, case.s_max):
+        append(path, row)
+
+
+def evidence(case, b):
+    """Whether the fold-and-tie value b of a TieCase is kappa_n itself: the stored sweep at case.above
+    (every crossed (n + 1)-th switch up to the time-to-go case.s_max has G > 0 there, its least gap
+    re-computed), and the complete search just upstream of the (n + 1)-th switch, on the crossed
+    side of the fold, at case.kappa_lo (n + 1 switches expected) and at the sweep's least gap
+    (n at most). {"bound": None or "lower", "upper": case.above, "sweep": ..., "confirmations": ...}."""
+    from ..core.roots import brent
+    from ..indirect import taylor
+    from .bifurcation import confirm, crossing, gap, tangency
+
+    n = case.n + 1
+    rows = sweep_rows(case)
+    crossed = [r for r in rows.values() if r["crossed_and_found"]]
+    least = min(crossed, key=lambda r: r["G"]) if crossed else None
+    recheck = gap(case.kind, case.above, case.reading, least["psi"], n, accuracy=taylor.CHECK)[0] if least else None
+    fold = brent(lambda p: tangency(case.kind, case.kappa_lo, p, n), case.psi_lo, case.psi_hi, 1e-12)
+    side = next(p for p in (fold - 3e-3, fold + 3e-3) if math.prod(crossing(case.kind, case.kappa_lo, p, n)) > 0)
+    below = confirm(case.kind, case.kappa_lo, case.reading, side, n)
+    above = confirm(case.kind, case.above, case.reading, least["psi"], n) if least else None
+    complete = len(rows) > 0 and set(rows) <= {math.pi * (i + 0.5) / case.angles for i in range(case.angles)}
+    holds = (complete and least is not None and least["G"] > 0 and abs(recheck - least["G"]) < 1e-6
+             and b.kappa < case.above and below["switches"] == n and above["switches"] < n)
+    return {"bound": None if holds else "lower", "upper": case.above,
+            "sweep": {"kappa": case.above, "angles": case.angles, "s_max": case.s_max, "rows": len(rows),
+                      "crossed": len(crossed), "least_gap": least and least["G"], "least_psi": least and least["psi"],
+                      "least_state": least and least["state"], "recheck": recheck},
+            "confirmations": [below, above]}
 
 
 def plane(case):

@@ -11,6 +11,7 @@ candidate's zero ("confirmations") instead.
 import json
 import math
 import time
+from dataclasses import dataclass
 
 from ..core.errors import Fault
 from ..core.files import read_rows
@@ -81,19 +82,18 @@ def sweep(case, path):
 
 def evidence(case, b):
     """Whether the fold-and-tie value b of a TieCase is kappa_n itself: the stored sweep at case.above
-    (every crossed (n + 1)-th switch up to the time-to-go case.s_max has G > 0 there, its least gap
-    re-computed), and the complete search just upstream of the (n + 1)-th switch, on the crossed
+    (every crossed (n + 1)-th switch up to the time-to-go case.s_max has G > 0 there, its least gap,
+    swept at the Taylor accuracy CHECK, re-computed at PRECISE), and the complete search just upstream of the (n + 1)-th switch, on the crossed
     side of the fold, at case.kappa_lo (n + 1 switches expected) and at the sweep's least gap
     (n at most). {"bound": None or "lower", "upper": case.above, "sweep": ..., "confirmations": ...}."""
     from ..core.roots import brent
-    from ..indirect import taylor
     from .bifurcation import confirm, crossing, gap, tangency
 
     n = case.n + 1
     rows = sweep_rows(case)
     crossed = [r for r in rows.values() if r["crossed_and_found"]]
     least = min(crossed, key=lambda r: r["G"]) if crossed else None
-    recheck = gap(case.kind, case.above, case.reading, least["psi"], n, accuracy=taylor.CHECK)[0] if least else None
+    recheck = gap(case.kind, case.above, case.reading, least["psi"], n)[0] if least else None
     fold = brent(lambda p: tangency(case.kind, case.kappa_lo, p, n), case.psi_lo, case.psi_hi, 1e-12)
     side = next(p for p in (fold - 3e-3, fold + 3e-3) if math.prod(crossing(case.kind, case.kappa_lo, p, n)) > 0)
     below = confirm(case.kind, case.kappa_lo, case.reading, side, n)
@@ -157,9 +157,10 @@ def append(path, row):
 
 
 def approach(rows, n_min=2):
-    """{kind: (a, a's standard error, p, p's standard error, largest residual, the n fitted)}: the fit
-    1 - kappa_n / (G/(2n)) = a n^(-p) by least squares in log-log over each circle sequence's
-    values with n >= n_min (three at least)."""
+    """{kind: Approach}: the fits of d_n = 1 - kappa_n / (G/(2n)) over each circle sequence's values
+    with n >= n_min (three at least): the power law d_n = a n^(-p) (least squares in log-log) and,
+    with the exponent 3/2 the power law's local exponents approach, d_n = n^(-3/2) (c + e / n)
+    (linear least squares); standard errors from the covariance (nan with fewer than four values)."""
     import numpy as np
 
     fits = {}
@@ -172,8 +173,32 @@ def approach(rows, n_min=2):
         (slope, log_a), cov = np.polyfit(np.log(n), np.log(d), 1, cov=len(seq) > 3)
         se = np.sqrt(np.diag(cov)) if len(seq) > 3 else (math.nan, math.nan)
         a = math.exp(log_a)
-        fits[kind] = (a, a * se[1], -slope, se[0], float(np.max(np.abs(a * n ** slope - d))), tuple(int(k) for k in n))
+        basis = np.vstack([n ** -1.5, n ** -2.5]).T
+        ce = np.linalg.lstsq(basis, d, rcond=None)[0]
+        sigma2 = float(np.sum((basis @ ce - d) ** 2)) / (len(seq) - 2) if len(seq) > 2 else math.nan
+        ce_se = np.sqrt(np.diag(sigma2 * np.linalg.inv(basis.T @ basis))) if len(seq) > 3 else (math.nan, math.nan)
+        fits[kind] = Approach(a, a * se[1], -slope, se[0], float(np.max(np.abs(a * n ** slope - d))),
+                              float(ce[0]), float(ce_se[0]), float(ce[1]), float(ce_se[1]),
+                              float(np.max(np.abs(basis @ ce - d))), tuple(int(k) for k in n))
     return fits
+
+
+@dataclass(frozen=True)
+class Approach:
+    """The fits of `approach`: a n^(-p) with its largest residual, n^(-3/2) (c + e / n) with its, and
+    the n fitted."""
+
+    a: float
+    a_error: float
+    p: float
+    p_error: float
+    residual: float
+    c: float
+    c_error: float
+    e: float
+    e_error: float
+    residual_32: float
+    ns: tuple
 
 
 def format_table(rows):
@@ -192,10 +217,11 @@ def format_table(rows):
         value = (">= " if r.get("bound") == "lower" else "") + plus_minus(r["kappa"], r["error"])
         lines.append(f"{r['case']:<20} {value:>24} {r['asymptote']:>8.4f} "
                      f"{r['kappa'] / r['asymptote']:>7.4f} {r['published'] or '-':>10}  ({theta:.4f}, {omega:.4f})")
-    for kind, (a, da, p, dp, residual, ns) in approach([r for r in rows if r["kappa"] is not None]).items():
-        lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = a n^-p with a = {plus_minus(a, da)}, "
-                     f"p = {plus_minus(p, dp)} (least squares over n = {', '.join(map(str, ns))}; largest residual "
-                     f"{residual:.1e})")
+    for kind, f in approach([r for r in rows if r["kappa"] is not None]).items():
+        lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = a n^-p with a = {plus_minus(f.a, f.a_error)}, "
+                     f"p = {plus_minus(f.p, f.p_error)} (largest residual {f.residual:.1e}); = n^-1.5 (c + e/n) with "
+                     f"c = {plus_minus(f.c, f.c_error)}, e = {plus_minus(f.e, f.e_error)} (largest residual "
+                     f"{f.residual_32:.1e}); least squares over n = {', '.join(map(str, f.ns))}")
     for r in rows:
         where = "" if r["kappa"] is None else f" (time-to-go {r['time_to_go']:.4f})"
         lines.append(f"  {r['case']}: {r['mechanism']}{where}; computed at {r['commit'] or 'an unknown commit'}")

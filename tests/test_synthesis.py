@@ -67,6 +67,7 @@ def test_the_stored_values_carry_their_provenance():
     (["synthesis", "swing-up", "--kappa", "1", "--grid", "5", "5"], "grid"),
     (["synthesis", "swing-up", "--kappa", "1", "--window", "1", "0", "-1", "1"], "window"),
     (["bifurcation", "--case", "swing-up/square/1"], "accepted"),
+    (["bifurcation", "--case", "swing-up/circle/1", "--sweep", "s.jsonl"], "damping/circle/2"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv, says, capsys):
     assert main(argv) == 2

@@ -326,7 +326,8 @@ def confirm(kind, kappa, reading, psi, n, dt=0.01):
 
     point = switch_point(kind, kappa, psi, n)
     u = -point.signs[0]
-    x0 = solve_ivp(lambda t, x: -rhs(x, u, kappa), (0.0, dt), np.array(point.x), "DOP853", rtol=1e-12, atol=1e-12).y[:, -1]
+    back = solve_ivp(lambda t, x: -rhs(x, u, kappa), (0.0, dt), np.array(point.x), "DOP853", rtol=1e-12, atol=1e-12)
+    x0 = back.y[:, -1]
     s = solve(make(kind, kappa, (float(x0[0]), float(x0[1])), branch=None if reading == "circle" else 0))
     return {"kappa": kappa, "psi": psi, "x0": [float(v) for v in x0], "T": s.T, "switches": s.n_switches,
             "arc_signs": list(s.arc_signs)}

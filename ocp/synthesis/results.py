@@ -83,22 +83,19 @@ def sweep(case, path):
 def evidence(case, b):
     """Whether the fold-and-tie value b of a TieCase is kappa_n itself: the stored sweep at case.above
     (every crossed (n + 1)-th switch up to the time-to-go case.s_max has G > 0 there, its least gap,
-    swept at the Taylor accuracy CHECK, re-computed at PRECISE), and the complete search just upstream of the (n + 1)-th switch, on the crossed
-    side of the fold, at case.kappa_lo (n + 1 switches expected) and at the sweep's least gap
+    swept at the Taylor accuracy CHECK, re-computed at PRECISE), and the complete search just upstream
+    of the (n + 1)-th switch at case.below (n + 1 switches expected) and at the sweep's least gap
     (n at most). {"bound": None or "lower", "upper": case.above, "sweep": ..., "confirmations": ...}."""
-    from ..core.roots import brent
-    from .bifurcation import confirm, crossing, gap, tangency
+    from .bifurcation import confirm, gap
 
     n = case.n + 1
     rows = sweep_rows(case)
     crossed = [r for r in rows.values() if r["crossed_and_found"]]
     least = min(crossed, key=lambda r: r["G"]) if crossed else None
     recheck = gap(case.kind, case.above, case.reading, least["psi"], n)[0] if least else None
-    fold = brent(lambda p: tangency(case.kind, case.kappa_lo, p, n), case.psi_lo, case.psi_hi, 1e-12)
-    side = next(p for p in (fold - 3e-3, fold + 3e-3) if math.prod(crossing(case.kind, case.kappa_lo, p, n)) > 0)
-    below = confirm(case.kind, case.kappa_lo, case.reading, side, n)
+    below = confirm(case.kind, case.below[0], case.reading, case.below[1], n)
     above = confirm(case.kind, case.above, case.reading, least["psi"], n) if least else None
-    complete = len(rows) > 0 and set(rows) <= {math.pi * (i + 0.5) / case.angles for i in range(case.angles)}
+    complete = set(rows) == {math.pi * (i + 0.5) / case.angles for i in range(case.angles)}
     holds = (complete and least is not None and least["G"] > 0 and abs(recheck - least["G"]) < 1e-6
              and b.kappa < case.above and below["switches"] == n and above["switches"] < n)
     return {"bound": None if holds else "lower", "upper": case.above,

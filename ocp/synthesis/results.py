@@ -52,8 +52,9 @@ def compute(case):
     if row["bound"] == "lower":
         row["mechanism"] += f" (a lower bound of kappa_{case.n}: other regions of {case.n + 1} switches are not excluded)"
     elif extra:
-        w = extra["sweep"]
-        row["mechanism"] += (f"; no other region of {case.n + 1} switches remains: at kappa = {case.above:g} every crossed "
+        w, near = extra["sweep"], ", ".join(f"{r['G']:+.2g} at {abs(r['dpsi']):g}" for r in extra["beside"])
+        row["mechanism"] += (f" (the gap beside the fold on its crossed side: {near} away in psi)"
+                             f"; no other region of {case.n + 1} switches remains: at kappa = {case.above:g} every crossed "
                              f"{ordinal(case.n + 1)} switch of {w['angles']} final costate angles over (0, pi) (the "
                              f"mirror image carries the rest) with time-to-go up to {case.s_max:g} has a positive gap, "
                              f"the least {w['least_gap']:.3g} at psi = {w['least_psi']:.4f}: kappa_{case.n} lies in "
@@ -85,10 +86,14 @@ def evidence(case, b):
     (every crossed (n + 1)-th switch up to the time-to-go case.s_max has G > 0 there, its least gap,
     swept at the Taylor accuracy CHECK, re-computed at PRECISE), and the complete search just upstream
     of the (n + 1)-th switch at case.below (n + 1 switches expected) and at the sweep's least gap
-    (n at most). {"bound": None or "lower", "upper": case.above, "sweep": ..., "confirmations": ...}."""
-    from .bifurcation import confirm, gap
+    (n at most); and at the value itself the gap beside the fold, on its crossed side (offsets 0.003
+    and 0.01 in psi), positive: the fold is the least gap there, and the region ends at it.
+    {"bound": None or "lower", "upper": case.above, "beside": ..., "sweep": ..., "confirmations": ...}."""
+    from .bifurcation import confirm, crossing, gap
 
     n = case.n + 1
+    beside = {d: gap(case.kind, b.kappa, case.reading, b.psi + d, n)[0] for d in (-0.01, -0.003, 0.003, 0.01)
+              if math.prod(crossing(case.kind, b.kappa, b.psi + d, n)) > 0}
     rows = sweep_rows(case)
     crossed = [r for r in rows.values() if r["crossed_and_found"]]
     least = min(crossed, key=lambda r: r["G"]) if crossed else None
@@ -97,8 +102,10 @@ def evidence(case, b):
     above = confirm(case.kind, case.above, case.reading, least["psi"], n) if least else None
     complete = set(rows) == {math.pi * (i + 0.5) / case.angles for i in range(case.angles)}
     holds = (complete and least is not None and least["G"] > 0 and abs(recheck - least["G"]) < 1e-6
-             and b.kappa < case.above and below["switches"] == n and above["switches"] < n)
+             and b.kappa < case.above and below["switches"] == n and above["switches"] < n
+             and len(beside) >= 2 and min(beside.values()) > 0)
     return {"bound": None if holds else "lower", "upper": case.above,
+            "beside": [{"dpsi": d, "G": g} for d, g in beside.items()],
             "sweep": {"kappa": case.above, "angles": case.angles, "s_max": case.s_max, "rows": len(rows),
                       "crossed": len(crossed), "least_gap": least and least["G"], "least_psi": least and least["psi"],
                       "least_state": least and least["state"], "recheck": recheck},

@@ -89,11 +89,12 @@ def test_bad_input_is_refused():
 
 
 def test_the_approach_fit_recovers_a_power_law_and_the_table_prints_a_missing_value():
-    # rows whose ratios follow 1 - ratio = 0.2 n^-1.5 exactly: the fit returns a = 0.2, p = 1.5
+    # rows whose ratios follow 1 - ratio = 0.2 n^-1.5 exactly: the fits return a = 0.2, p = 1.5 and c = 0.2, e = 0
     rows = [{"case": f"swing-up/circle/{n}", "kind": "swing-up", "reading": "circle", "n": n,
              "kappa": (1 - 0.2 * n ** -1.5) * 0.9 / n, "asymptote": 0.9 / n} for n in range(1, 6)]
-    a, da, p, dp, residual, ns = results.approach(rows)["swing-up"]
-    assert ns == (2, 3, 4, 5) and abs(a - 0.2) < 1e-12 and abs(p - 1.5) < 1e-12 and residual < 1e-14
+    f = results.approach(rows)["swing-up"]
+    assert f.ns == (2, 3, 4, 5) and abs(f.a - 0.2) < 1e-12 and abs(f.p - 1.5) < 1e-12 and f.residual < 1e-14
+    assert abs(f.c - 0.2) < 1e-12 and abs(f.e) < 1e-11 and f.residual_32 < 1e-14
     plane = {"case": "damping/plane/1", "kind": "damping", "reading": "plane", "n": 1, "kappa": None,
              "mechanism": "kappa_1 does not exist on the plane", "commit": "c"}
     full = [dict(r, error=1e-13, published=None, state=[0.0, 0.0], mechanism="m", time_to_go=1.0, commit="c")
@@ -113,3 +114,15 @@ def test_the_least_time_to_go_of_the_dampings_band_is_a_minimum():
     for d in (-1e-3, 1e-3):
         assert switch_point("damping", 0.5, psi + d, 3).s > s
     assert abs(switch_point("damping", 0.5, psi, 3).x[1]) > 9
+
+
+def test_the_dampings_band_runs_off_to_infinite_energy_where_its_third_switch_leaves():
+    # limit.runaway extrapolates 1/s_3 to 0; the field's extremals themselves (switch_point, followed to a
+    # time-to-go of 400) switch a third time just below the extrapolated kappa and not just above it
+    from ocp.synthesis.bifurcation import switch_point
+
+    kappa, error, rows = limit.runaway("damping", 3, (0.51, 0.515, 0.52), 2.18, 2.26, samples=12)
+    assert 0.525 < kappa < 0.535 and error < 1e-3 and rows[0][1] < rows[1][1] < rows[2][1]
+    psis = [2.18 + 0.01 * i for i in range(9)]
+    assert any(switch_point("damping", kappa - 0.003, p, 3, s_max=400.0) for p in psis)
+    assert not any(switch_point("damping", kappa + 0.005, p, 3, s_max=400.0) for p in psis)

@@ -67,6 +67,7 @@ def test_the_stored_values_carry_their_provenance():
     (["synthesis", "swing-up", "--kappa", "1", "--grid", "5", "5"], "grid"),
     (["synthesis", "swing-up", "--kappa", "1", "--window", "1", "0", "-1", "1"], "window"),
     (["bifurcation", "--case", "swing-up/square/1"], "accepted"),
+    (["bifurcation", "--case", "swing-up/circle/1", "--sweep", "s.jsonl"], "damping/circle/2"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv, says, capsys):
     assert main(argv) == 2
@@ -93,3 +94,30 @@ def test_a_strip_that_crosses_the_window_with_its_corners_outside_is_refined():
     for i, j in [(4, 16), (16, 4)]:
         answer = solve(make("swing-up", 0.31, (float(s.window.theta[i]), float(s.window.omega[j]))))
         assert abs(s.V[i, j] - answer.T) <= 2e-3 and s.N[i, j] == answer.n_switches
+
+
+def test_the_sweeps_above_the_fold_and_tie_values_are_complete_and_positive():
+    # the stored sweeps (ocp bifurcation --case ID --sweep FILE) that make a fold-and-tie value kappa_n:
+    # one row at every angle pi (i + 1/2) / angles, at the case's kappa, each crossed switch's gap positive
+    swept = [c for c in results.cases() if getattr(c, "above", None) is not None]
+    assert {c.id for c in swept} >= {"damping/circle/2", "swing-up/circle/6", "swing-up/circle/7"}
+    for case in swept:
+        rows = results.sweep_rows(case)
+        assert set(rows) == {math.pi * (i + 0.5) / case.angles for i in range(case.angles)}
+        crossed = [r for r in rows.values() if r["crossed_and_found"]]
+        assert crossed and all(r["kappa"] == case.above and r["G"] > 0 for r in crossed)
+        assert all(r["s"] is None or r["s"] <= case.s_max for r in rows.values())
+
+
+def test_the_swing_ups_kappa_7_ties_at_the_fold_of_the_eighth_switching_curve():
+    # kappa_7 = 0.131030664919 +- 2e-12 (ocp bifurcation --case swing-up/circle/7: the fold-and-tie equations
+    # at PRECISE and CHECK; docs/bifurcation-limits.md section 2b): at 1e-7 either side, at CHECK accuracy, the
+    # fold's gap against (1, -1, 1, -1, 1, -1, 1, -1) to branch 1 changes sign, and the fold is crossed on one side
+    from ocp.core.roots import brent
+
+    label, signs = ((1, -1, 1, -1, 1, -1, 1, -1), 1), []
+    for kappa in (0.131030664919 - 1e-7, 0.131030664919 + 1e-7):
+        fold = brent(lambda p: bifurcation.tangency("swing-up", kappa, p, 8, bifurcation.taylor.CHECK), 2.40, 2.43,
+                     1e-13)
+        signs.append(bifurcation.gap("swing-up", kappa, "circle", fold, 8, label, bifurcation.taylor.CHECK)[0])
+    assert signs[0] < 0 < signs[1] and abs(signs[0]) < 1e-3

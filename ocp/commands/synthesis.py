@@ -9,7 +9,7 @@ The --out folder and the --store file are checked before the first map or case i
 import sys
 
 from ..core.arguments import add_window, formats, jobs, output_file, output_folder, problem_kappas, window
-from ..core.errors import integer
+from ..core.errors import InputError, integer
 
 #: --grid of a synthesis: points per axis
 GRID = (11, 2001)
@@ -89,6 +89,9 @@ def add_bifurcation(p):
     p.add_argument("--jobs", default="1", help="local worker processes, default 1")
     p.add_argument("--scheduler", metavar="ADDRESS", help="a Dask distributed scheduler instead of local processes")
     p.add_argument("--json", action="store_true", help="print the table as one JSON array")
+    p.add_argument("--sweep", metavar="FILE", help="instead: compute (resumed) into FILE the sweep of the one --case "
+                                                   "whose value is its fold and tie (the gaps above it), e.g. "
+                                                   "ocp/synthesis/data/sweep-damping-3-0.50341.jsonl")
     p.set_defaults(run=run_bifurcation)
 
 
@@ -98,6 +101,13 @@ def run_bifurcation(args):
     from ..core.parallel import Progress, drain, executor
 
     cases = store.cases(args.case)
+    if args.sweep is not None:
+        if len(cases) != 1 or getattr(cases[0], "above", None) is None:
+            swept = ", ".join(c.id for c in store.cases() if getattr(c, "above", None) is not None)
+            raise InputError(f"--sweep needs one --case with a sweep; accepted: {swept}")
+        store.sweep(cases[0], output_file("--sweep", args.sweep))
+        print(f"{cases[0].id}: the sweep at kappa = {cases[0].above:g} is in {args.sweep}")
+        return 0
     workers = jobs(args.jobs)
     path = output_file("--store", args.store)
     rows = store.load(path)

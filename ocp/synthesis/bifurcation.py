@@ -242,7 +242,7 @@ def bifurcation(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, trace=None
     routes["least gap, CHECK, psi to 1e-9"] = root_in_kappa(kind, reading, n + 1, kappa_lo, kappa_hi, psi_lo, psi_hi,
                                                             taylor.CHECK, 1e-9, 1e-13)[0]
     point = switch_point(kind, k, psi, n + 1)
-    mechanism = (f"a tie, tangent at the {_ordinal(n + 1)} switching point, with the extremal {label[0]} to "
+    mechanism = (f"a tie, tangent at the {ordinal(n + 1)} switching point, with the extremal {label[0]} to "
                  f"branch {label[1]}")
     above = least_gap(kind, k + 1e-9, reading, n + 1, psi - 0.5 * (psi_hi - psi_lo), psi + 0.5 * (psi_hi - psi_lo))[0]
     if above >= NOT_CROSSED / 2:
@@ -250,7 +250,7 @@ def bifurcation(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, trace=None
         # the root is the edge of the crossed angles, found as finely as they are sampled
         routes["least gap, PRECISE, psi sampled 4x finer"] = root_in_kappa(
             kind, reading, n + 1, kappa_lo, kappa_hi, psi_lo, psi_hi, taylor.PRECISE, 1e-10, 1e-13, samples=96)[0]
-        mechanism = (f"the region of {n + 1} switches vanishes where the {_ordinal(n + 1)} switching curve stops "
+        mechanism = (f"the region of {n + 1} switches vanishes where the {ordinal(n + 1)} switching curve stops "
                      f"being crossed by the arriving trajectories (its crossed part shrinks to a point) while it "
                      f"still beats every other extremal; located by sampling the final costate angle")
     w = 1e-4
@@ -259,7 +259,7 @@ def bifurcation(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, trace=None
         fold = tangency_tie(kind, reading, n + 1, k - dk, k + dk, psi - 10 * w, psi + 10 * w, label)
         if abs(fold[1] - psi) < 1e-6:
             routes["fold and tie equations, PRECISE"] = fold[0]
-            mechanism = (f"the {_ordinal(n + 1)} switching curve folds (becomes tangent to the trajectories that "
+            mechanism = (f"the {ordinal(n + 1)} switching curve folds (becomes tangent to the trajectories that "
                          f"cross it) where it ties with the extremal {label[0]} to branch {label[1]}: the region of "
                          f"{n + 1} switches is born at that point")
     values = list(routes.values())
@@ -267,7 +267,7 @@ def bifurcation(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, trace=None
     return Bifurcation(kind, reading, n, k, error, psi, point.x, point.s, label, mechanism, routes)
 
 
-def _ordinal(k):
+def ordinal(k):
     return {1: "first", 2: "second", 3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh"}.get(k, f"{k}th")
 
 
@@ -275,15 +275,59 @@ def fold_and_tie(kind, reading, n, kappa_lo, kappa_hi, psi_lo, psi_hi, label, kt
     """The Bifurcation where the region of n + 1 switches carried by the field's extremals at
     psi in [psi_lo, psi_hi] ends by the fold-and-tie mechanism alone (`tangency_tie` against the
     competitor `label`, at the Taylor accuracies PRECISE and CHECK): the value where that region
-    vanishes, a lower bound of kappa_n when other regions of n + 1 switches are not excluded. Error
+    vanishes, a lower bound of kappa_n (kappa_n itself when no other region of n + 1 switches remains,
+    `ocp.synthesis.results.evidence`). Error
     bar: the spread of the two accuracies plus ktol."""
     routes = {f"fold and tie equations, {name}, kappa to {ktol:g}":
               tangency_tie(kind, reading, n + 1, kappa_lo, kappa_hi, psi_lo, psi_hi, label, accuracy, ktol)
               for name, accuracy in (("PRECISE", taylor.PRECISE), ("CHECK", taylor.CHECK))}
     (k, psi), values = next(iter(routes.values())), [r[0] for r in routes.values()]
     point = switch_point(kind, k, psi, n + 1)
-    mechanism = (f"the {_ordinal(n + 1)} switching curve folds where it ties with the extremal {label[0]} to branch "
+    mechanism = (f"the {ordinal(n + 1)} switching curve folds where it ties with the extremal {label[0]} to branch "
                  f"{label[1]}: the region of {n + 1} switches of the extremals at psi in [{psi_lo:g}, {psi_hi:g}] ends "
-                 f"there (a lower bound of kappa_{n}: other regions of {n + 1} switches are not excluded)")
+                 f"there")
     return Bifurcation(kind, reading, n, k, max(values) - min(values) + ktol, psi, point.x, point.s, label, mechanism,
                        {name: r[0] for name, r in routes.items()})
+
+
+def scan(kind, kappa, reading, n, psis, s_max, accuracy=taylor.CHECK):
+    """Rows {kappa, psi, s, state, crossed_and_found, G, competitor, time_s}, one an angle psi, of the
+    gap at the n-th switch (`profile`'s test; s None where the extremal switches fewer than n times
+    within the time-to-go s_max): m(kappa) > 0 at this kappa when every crossed row has G > 0."""
+    import time
+
+    for psi in psis:
+        start = time.perf_counter()
+        point = switch_point(kind, kappa, float(psi), n, accuracy, s_max)
+        if point is None:
+            yield {"kappa": kappa, "psi": float(psi), "s": None, "state": None, "crossed_and_found": False, "G": None,
+                   "competitor": None, "time_s": time.perf_counter() - start}
+            continue
+        try:
+            up, down = crossing(kind, kappa, float(psi), n, accuracy)
+            found = gap(kind, kappa, reading, float(psi), n, accuracy=accuracy) if up * down > 0 else None
+        except ValueError:          # a switch point outside the accepted states (|omega| > 50)
+            found = None
+        yield {"kappa": kappa, "psi": float(psi), "s": point.s, "state": list(point.x),
+               "crossed_and_found": found is not None, "G": None if found is None else found[0],
+               "competitor": None if found is None else [list(found[1][0]), found[1][1]],
+               "time_s": time.perf_counter() - start}
+
+
+def confirm(kind, kappa, reading, psi, n, dt=0.01):
+    """The complete search (`ocp.solve`) at the state dt before the n-th switch point of the extremal
+    psi, on its arriving arc: {kappa, psi, x0, T, switches, arc_signs}. Where G < 0 and the switch is
+    crossed, the optimum there switches n times; where every gap is positive, fewer."""
+    from scipy.integrate import solve_ivp
+
+    from ..core.model import rhs
+    from ..core.problem import make
+    from ..solving import solve
+
+    point = switch_point(kind, kappa, psi, n)
+    u = -point.signs[0]
+    back = solve_ivp(lambda t, x: -rhs(x, u, kappa), (0.0, dt), np.array(point.x), "DOP853", rtol=1e-12, atol=1e-12)
+    x0 = back.y[:, -1]
+    s = solve(make(kind, kappa, (float(x0[0]), float(x0[1])), branch=None if reading == "circle" else 0))
+    return {"kappa": kappa, "psi": psi, "x0": [float(v) for v in x0], "T": s.T, "switches": s.n_switches,
+            "arc_signs": list(s.arc_signs)}

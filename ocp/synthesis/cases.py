@@ -46,23 +46,25 @@ CASES = (
 
 
 @dataclass(frozen=True)
-class TieCase:
+class TieCase(Case):
     """A region of n + 1 switches whose end is computed by the fold-and-tie equations alone
-    (`bifurcation.fold_and_tie`, against `competitor` = (arc signs, branch)): a lower bound of kappa_n."""
+    (`bifurcation.fold_and_tie`, against `competitor` = (arc signs, branch)): a lower bound of kappa_n,
+    and kappa_n itself where the stored sweep at kappa = `above` (`results.sweep`: the gap at
+    `angles` final costate angles over (0, pi), the mirror image carrying (pi, 2 pi), up to the
+    time-to-go `s_max`) finds no other crossed switch with a negative gap, and the complete search
+    finds n + 1 switches just upstream of the switch of the extremal psi at kappa, (kappa, psi) =
+    `below` (a crossed switch of negative gap away from the fold: near it the arriving trajectory
+    meets the folded switching curve again upstream)."""
 
-    kind: str
-    reading: str
-    n: int
-    kappa_lo: float
-    kappa_hi: float
-    psi_lo: float
-    psi_hi: float
-    competitor: tuple
-    located: str
+    competitor: tuple = ()
+    above: float = None
+    below: tuple = None
+    angles: int = 120
+    s_max: float = 40.0
 
     @property
-    def id(self):
-        return f"{self.kind}/{self.reading}/{self.n}"
+    def sweep_file(self):
+        return f"sweep-{self.kind}-{self.n + 1}-{self.above!r}.jsonl"
 
 
 @dataclass(frozen=True)
@@ -92,10 +94,19 @@ PLANE_CASES = (
               ((5.0, 20 * math.pi + math.pi / 4), (12.0, 40 * math.pi + math.pi / 4)), _FAR),
 )
 CASES = CASES + (
-    TieCase("damping", "circle", 2, 0.5, 0.51, 2.20, 2.29, ((-1, 1, -1), -1),
+    TieCase("swing-up", "circle", 6, 0.1523, 0.1528, 2.41, 2.44,
+            "maps: 7 switches near the origin at kappa = 0.15, none at 0.156 (horizon 32); at the seventh switching "
+            "curve's fold (psi = 2.423) the gap against (-1, 1, -1, 1, -1, 1, -1) to branch 1 is -0.48 at kappa = "
+            "0.1523, +0.34 at 0.1528 (that extremal is born between 0.1520 and 0.1522)",
+            ((-1, 1, -1, 1, -1, 1, -1), 1), 0.1526, (0.1523, 2.4204)),
+    TieCase("swing-up", "circle", 7, 0.131, 0.134, 2.40, 2.43,
+            "the eighth switching curve's fold (psi = 2.41 to 2.43, from kappa_5 and kappa_6): gap -0.077 at kappa = "
+            "0.131, +1.29 at 0.134 against (1, -1, 1, -1, 1, -1, 1, -1) to branch 1",
+            ((1, -1, 1, -1, 1, -1, 1, -1), 1), 0.1312, (0.131, 2.4155)),
+    TieCase("damping", "circle", 2, 0.5, 0.51, 2.20, 2.29,
             "maps: 3 switches at omega of 10 to 12 at kappa = 0.5 (a band on the braking curves); gap -0.105 at "
-            "kappa = 0.5 (psi = 2.25), +0.187 at kappa = 0.51 (psi = 2.226); other extremals switch a third time "
-            "at high energy up to kappa = 1, their gaps not computed"),
+            "kappa = 0.5 (psi = 2.25), +0.187 at kappa = 0.51 (psi = 2.226)",
+            ((-1, 1, -1), -1), 0.50341, (0.5, 2.2085)),
 ) + PLANE_CASES
 
 

@@ -263,11 +263,11 @@ def least_time_to_go(kind, kappa, n, psi_lo, psi_hi, s_max=400.0, samples=60):
     return sampled_minimum(s, psi_lo, psi_hi, samples, 1e-9)
 
 
-def runaway(kind, n, kappas, psi_lo, psi_hi):
+def runaway(kind, n, kappas, psi_lo, psi_hi, samples=60):
     """(kappa_inf, error, [(kappa, s, psi)]): where the least time-to-go of the n-th switch runs off to
     infinity (its switch point to infinite energy): 1/s at the kappas, fitted by a parabola and by
     the line through the last two, each extrapolated to 1/s = 0; the error is their distance."""
-    rows = [(k, *least_time_to_go(kind, k, n, psi_lo, psi_hi)) for k in kappas]
+    rows = [(k, *least_time_to_go(kind, k, n, psi_lo, psi_hi, samples=samples)) for k in kappas]
     k, inv = np.array([r[0] for r in rows]), np.array([1 / r[1] for r in rows])
     quadratic = np.polynomial.polynomial.Polynomial.fit(k, inv, 2)
     roots = [r.real for r in quadratic.roots() if abs(r.imag) < 1e-12 and r.real > k[-1]]

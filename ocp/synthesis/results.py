@@ -11,12 +11,13 @@ candidate's zero ("confirmations") instead.
 import json
 import math
 import time
+from dataclasses import dataclass
 
 from ..core.errors import Fault
 from ..core.files import read_rows
 from ..core.numbers import plus_minus
 from ..core.provenance import git_commit
-from .bifurcation import bifurcation, fold_and_tie
+from .bifurcation import ordinal, bifurcation, fold_and_tie
 from .cases import CASES, TieCase, find
 
 #: what Finch (2015) prints for a case: (key in ocp/papers/data/finch2015.toml, the text printed)
@@ -37,16 +38,78 @@ def compute(case):
     start = time.perf_counter()
     if case.reading == "plane":
         return dict(plane(case), located=case.located, commit=git_commit(), time_s=time.perf_counter() - start)
+    extra = {}
     if isinstance(case, TieCase):
         b = fold_and_tie(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi,
                          case.competitor)
+        extra = evidence(case, b) if case.above is not None else {"bound": "lower"}
     else:
         b = bifurcation(case.kind, case.reading, case.n, case.kappa_lo, case.kappa_hi, case.psi_lo, case.psi_hi)
-    row = dict(b.to_dict(), case=case.id, asymptote=gibbs_constant() / (2 * case.n),
-               bound="lower" if isinstance(case, TieCase) else None,
+    row = dict(b.to_dict(), case=case.id, asymptote=gibbs_constant() / (2 * case.n), bound=None,
                published=PUBLISHED.get(case.id, (None, None))[1], located=case.located,
                commit=git_commit(), time_s=time.perf_counter() - start)
+    row.update(extra)
+    if row["bound"] == "lower":
+        row["mechanism"] += f" (a lower bound of kappa_{case.n}: other regions of {case.n + 1} switches are not excluded)"
+    elif extra:
+        w, near = extra["sweep"], ", ".join(f"{r['G']:+.2g} at {abs(r['dpsi']):g}" for r in extra["beside"])
+        row["mechanism"] += (f" (the gap beside the fold on its crossed side: {near} away in psi)"
+                             f"; no other region of {case.n + 1} switches remains: at kappa = {case.above:g} every crossed "
+                             f"{ordinal(case.n + 1)} switch of {w['angles']} final costate angles over (0, pi) (the "
+                             f"mirror image carries the rest) with time-to-go up to {case.s_max:g} has a positive gap, "
+                             f"the least {w['least_gap']:.3g} at psi = {w['least_psi']:.4f}: kappa_{case.n} lies in "
+                             f"[{b.kappa:.12g}, {case.above:g}], and is this value unless a region of {case.n + 1} "
+                             f"switches is born and dies again between the two")
     return row
+
+
+def sweep_rows(case):
+    """The stored sweep of a TieCase (data/CASE.sweep_file): {psi: row} of `bifurcation.scan`."""
+    from importlib import resources
+
+    return read_rows(resources.files("ocp.synthesis") / "data" / case.sweep_file, "psi", "a row of a sweep")
+
+
+def sweep(case, path):
+    """Compute (resumed) the sweep of a TieCase into path: `bifurcation.scan` of the (n + 1)-th switch
+    at kappa = case.above over psi = pi (i + 1/2) / case.angles, i < case.angles."""
+    from .bifurcation import scan
+
+    done = read_rows(path, "psi", "a row of a sweep")
+    psis = [p for p in (math.pi * (i + 0.5) / case.angles for i in range(case.angles)) if p not in done]
+    for row in scan(case.kind, case.above, case.reading, case.n + 1, psis, case.s_max):
+        append(path, row)
+
+
+def evidence(case, b):
+    """Whether the fold-and-tie value b of a TieCase is kappa_n itself: the stored sweep at case.above
+    (every crossed (n + 1)-th switch up to the time-to-go case.s_max has G > 0 there, its least gap,
+    swept at the Taylor accuracy CHECK, re-computed at PRECISE), and the complete search just upstream
+    of the (n + 1)-th switch at case.below (n + 1 switches expected) and at the sweep's least gap
+    (n at most); and at the value itself the gap beside the fold, on its crossed side (offsets 0.003
+    and 0.01 in psi), positive: the fold is the least gap there, and the region ends at it.
+    {"bound": None or "lower", "upper": case.above, "beside": ..., "sweep": ..., "confirmations": ...}."""
+    from .bifurcation import confirm, crossing, gap
+
+    n = case.n + 1
+    beside = {d: gap(case.kind, b.kappa, case.reading, b.psi + d, n)[0] for d in (-0.01, -0.003, 0.003, 0.01)
+              if math.prod(crossing(case.kind, b.kappa, b.psi + d, n)) > 0}
+    rows = sweep_rows(case)
+    crossed = [r for r in rows.values() if r["crossed_and_found"]]
+    least = min(crossed, key=lambda r: r["G"]) if crossed else None
+    recheck = gap(case.kind, case.above, case.reading, least["psi"], n)[0] if least else None
+    below = confirm(case.kind, case.below[0], case.reading, case.below[1], n)
+    above = confirm(case.kind, case.above, case.reading, least["psi"], n) if least else None
+    complete = set(rows) == {math.pi * (i + 0.5) / case.angles for i in range(case.angles)}
+    holds = (complete and least is not None and least["G"] > 0 and abs(recheck - least["G"]) < 1e-6
+             and b.kappa < case.above and below["switches"] == n and above["switches"] < n
+             and len(beside) >= 2 and min(beside.values()) > 0)
+    return {"bound": None if holds else "lower", "upper": case.above,
+            "beside": [{"dpsi": d, "G": g} for d, g in beside.items()],
+            "sweep": {"kappa": case.above, "angles": case.angles, "s_max": case.s_max, "rows": len(rows),
+                      "crossed": len(crossed), "least_gap": least and least["G"], "least_psi": least and least["psi"],
+                      "least_state": least and least["state"], "recheck": recheck},
+            "confirmations": [below, above]}
 
 
 def plane(case):
@@ -98,9 +161,10 @@ def append(path, row):
 
 
 def approach(rows, n_min=2):
-    """{kind: (a, a's standard error, p, p's standard error, largest residual, the n fitted)}: the fit
-    1 - kappa_n / (G/(2n)) = a n^(-p) by least squares in log-log over each circle sequence's
-    values with n >= n_min (three at least)."""
+    """{kind: Approach}: the fits of d_n = 1 - kappa_n / (G/(2n)) over each circle sequence's values
+    with n >= n_min (three at least): the power law d_n = a n^(-p) (least squares in log-log) and,
+    with the exponent 3/2 the power law's local exponents approach, d_n = n^(-3/2) (c + e / n)
+    (linear least squares); standard errors from the covariance (nan with fewer than four values)."""
     import numpy as np
 
     fits = {}
@@ -113,8 +177,32 @@ def approach(rows, n_min=2):
         (slope, log_a), cov = np.polyfit(np.log(n), np.log(d), 1, cov=len(seq) > 3)
         se = np.sqrt(np.diag(cov)) if len(seq) > 3 else (math.nan, math.nan)
         a = math.exp(log_a)
-        fits[kind] = (a, a * se[1], -slope, se[0], float(np.max(np.abs(a * n ** slope - d))), tuple(int(k) for k in n))
+        basis = np.vstack([n ** -1.5, n ** -2.5]).T
+        ce = np.linalg.lstsq(basis, d, rcond=None)[0]
+        sigma2 = float(np.sum((basis @ ce - d) ** 2)) / (len(seq) - 2) if len(seq) > 2 else math.nan
+        ce_se = np.sqrt(np.diag(sigma2 * np.linalg.inv(basis.T @ basis))) if len(seq) > 3 else (math.nan, math.nan)
+        fits[kind] = Approach(a, a * se[1], -slope, se[0], float(np.max(np.abs(a * n ** slope - d))),
+                              float(ce[0]), float(ce_se[0]), float(ce[1]), float(ce_se[1]),
+                              float(np.max(np.abs(basis @ ce - d))), tuple(int(k) for k in n))
     return fits
+
+
+@dataclass(frozen=True)
+class Approach:
+    """The fits of `approach`: a n^(-p) with its largest residual, n^(-3/2) (c + e / n) with its, and
+    the n fitted."""
+
+    a: float
+    a_error: float
+    p: float
+    p_error: float
+    residual: float
+    c: float
+    c_error: float
+    e: float
+    e_error: float
+    residual_32: float
+    ns: tuple
 
 
 def format_table(rows):
@@ -133,10 +221,11 @@ def format_table(rows):
         value = (">= " if r.get("bound") == "lower" else "") + plus_minus(r["kappa"], r["error"])
         lines.append(f"{r['case']:<20} {value:>24} {r['asymptote']:>8.4f} "
                      f"{r['kappa'] / r['asymptote']:>7.4f} {r['published'] or '-':>10}  ({theta:.4f}, {omega:.4f})")
-    for kind, (a, da, p, dp, residual, ns) in approach([r for r in rows if r["kappa"] is not None]).items():
-        lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = a n^-p with a = {plus_minus(a, da)}, "
-                     f"p = {plus_minus(p, dp)} (least squares over n = {', '.join(map(str, ns))}; largest residual "
-                     f"{residual:.1e})")
+    for kind, f in approach([r for r in rows if r["kappa"] is not None]).items():
+        lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = a n^-p with a = {plus_minus(f.a, f.a_error)}, "
+                     f"p = {plus_minus(f.p, f.p_error)} (largest residual {f.residual:.1e}); = n^-1.5 (c + e/n) with "
+                     f"c = {plus_minus(f.c, f.c_error)}, e = {plus_minus(f.e, f.e_error)} (largest residual "
+                     f"{f.residual_32:.1e}); least squares over n = {', '.join(map(str, f.ns))}")
     for r in rows:
         where = "" if r["kappa"] is None else f" (time-to-go {r['time_to_go']:.4f})"
         lines.append(f"  {r['case']}: {r['mechanism']}{where}; computed at {r['commit'] or 'an unknown commit'}")

@@ -1,15 +1,14 @@
 """The suite on a real Dask cluster (issue 21, item 4), started as a user starts one: a `dask
-scheduler` process and two `dask worker` processes on 127.0.0.1 (random ports), `ocp bench
---scheduler FILE` (the scheduler file) in a process of its own. Workers are SIGKILLed in the
-middle of pairs (seen running through the scheduler's call stacks of its workers): a pair whose
-worker died once runs again elsewhere and its row is stored once; a pair that killed its worker
-every time it ran is stored once as a failure row (Dask gives up after
-`distributed.scheduler.allowed-failures` deaths, set to 1 here), not retried forever. Every row
-is written by the bench's process alone, each pair once.
+scheduler` process and two `dask worker` processes on 127.0.0.1 (random ports, each worker with
+its nanny, which restarts it), `ocp bench --scheduler FILE` (the scheduler file) in a process of
+its own. Workers are SIGKILLed in the middle of a pair (seen running in the worker's own call
+stacks): killed once, its pairs run again elsewhere and every row is stored once, each a solve's
+answer; killed every time it runs, the pair is given up after `distributed.scheduler.allowed-failures`
++ 1 deaths (1 + 1 here) and stored once as a failure row, not retried forever. Every row is written
+by the bench's process alone. Bad --scheduler values: one line, exit 2.
 
-Dask's documentation: "Why did my worker die?" (KilledWorker, allowed-failures) and the scheduler's
-worker-saturation (1.0 here, so that a worker holds only the task it runs: a kill marks that task
-alone as suspicious).
+Dask's documentation: "Why did my worker die?" (KilledWorker, allowed-failures); a killed worker's
+tasks, running or held, are each counted once (`Scheduler.remove_worker`).
 """
 
 import json
@@ -37,7 +36,7 @@ kappa = [1.0, 2.0]
 [[methods]]
 transcription = "extremal-search"
 [[methods]]
-N = 40
+N = 100
 """
 BENCH = "import sys; from ocp import cli; sys.exit(cli.main(sys.argv[1:]))"
 
@@ -58,25 +57,29 @@ def _end(proc):
             proc.wait()
 
 
-@pytest.fixture
-def cluster(tmp_path):
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory):
     """(scheduler file, a Client of the test, logs): a scheduler and two single-threaded workers
     (each with its nanny, which restarts a killed worker), all ended at teardown."""
     distributed = pytest.importorskip("distributed")
     dask = Path(sys.executable).with_name("dask")
     if not dask.exists():
         pytest.skip("the dask command line is not installed beside this Python")
-    env = dict(os.environ, PYTHONPATH=str(ROOT), DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES="1",
-               DASK_DISTRIBUTED__SCHEDULER__WORKER_SATURATION="1.0")
+    env = dict(os.environ, PYTHONPATH=str(ROOT), DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES="1")
+    tmp_path = tmp_path_factory.mktemp("cluster")
     file, procs, logs = tmp_path / "scheduler.json", [], [tmp_path / f"{n}.log" for n in ("scheduler", "w1", "w2")]
     client = None
     try:
         procs.append(_start([dask, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                              "--scheduler-file", file], logs[0], env))
-        begun = time.monotonic()
-        while not file.exists() and procs[0].poll() is None and time.monotonic() - begun < 60:
+        begun, address = time.monotonic(), None
+        while address is None and procs[0].poll() is None and time.monotonic() - begun < 60:
             time.sleep(0.05)
-        address = json.loads(file.read_text())["address"]
+            try:
+                address = json.loads(file.read_text())["address"]
+            except (OSError, ValueError):       # not yet written, or written in part
+                pass
+        assert address, logs[0].read_text()[-2000:]
         for log in logs[1:]:
             procs.append(_start([dask, "worker", address, "--nworkers", "1", "--nthreads", "1", "--no-dashboard",
                                  "--host", "127.0.0.1", "--local-directory", tmp_path / "work"], log, env))
@@ -90,40 +93,45 @@ def cluster(tmp_path):
             _end(proc)
 
 
-def _running(client):
-    """{task key: worker address} of the pairs being solved by a direct method now: the tasks whose
-    call stack on their worker is inside `ocp.bench.measurement.measure` and `ocp.direct`."""
+def _running(client, dead):
+    """{task key: (worker address, pid)} of the pairs being solved by a direct method now on the
+    workers not killed (`dead`): the tasks whose call stack on their worker is inside
+    `ocp.bench.measurement.measure` and `ocp.direct` (asked of each worker, not through the
+    scheduler, which would wait for a killed one)."""
     inside = (f"{os.sep}ocp{os.sep}bench{os.sep}measurement.py", f"{os.sep}ocp{os.sep}direct{os.sep}")
-    return {key: worker for worker, tasks in client.call_stack().items() for key, frames in tasks.items()
+    alive = [w for w in client.scheduler_info()["workers"] if w not in dead]
+    stacks = client.run(lambda dask_worker: (os.getpid(), dask_worker.get_call_stack()), workers=alive,
+                        on_error="ignore") if alive else {}
+    return {key: (worker, pid) for worker, (pid, tasks) in stacks.items() for key, frames in tasks.items()
             if all(any(part in frame for frame in frames) for part in inside)}
 
 
-def test_workers_killed_mid_pair_lose_nothing_and_duplicate_nothing(cluster, tmp_path):
-    file, client, logs = cluster
-    suite, store = tmp_path / "cluster.toml", tmp_path / "cluster.sqlite"
-    suite.write_text(SUITE)
-    bench = subprocess.Popen([sys.executable, "-c", BENCH, "bench", suite, "--store", store, "--scheduler", file,
+def _bench_killing(cluster, tmp_path, name, suite, times):
+    """`ocp bench` of `suite` on the cluster, the worker running the first direct pair seen SIGKILLed
+    each time that pair runs, `times` times: (its JSON summary, its rows as stored, kills, whether
+    the pair was seen running again after the last kill)."""
+    file, client, _ = cluster
+    path, store = tmp_path / f"{name}.toml", tmp_path / f"{name}.sqlite"
+    path.write_text(suite)
+    bench = subprocess.Popen([sys.executable, "-c", BENCH, "bench", path, "--store", store, "--scheduler", file,
                               "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                              env=dict(os.environ, PYTHONPATH=str(ROOT)))
-    # the first pair seen running: its worker killed once; the second: each time it runs (twice)
-    kills, seen_again, dead = {}, set(), set()
+    target, kills, again, dead = None, 0, False, set()
     try:
         while bench.poll() is None:
             try:
-                running = {k: w for k, w in _running(client).items() if w not in dead}
+                running = _running(client, dead)
             except OSError:                 # a worker that died while asked
                 continue
-            for key, worker in running.items():
-                first, second = (list(kills) + [None, None])[:2]
-                if key not in kills and second is None or key == second and kills[key] == 1:
-                    pid = client.run(os.getpid, workers=[worker], on_error="ignore").get(worker)
-                    if pid:
-                        os.kill(pid, signal.SIGKILL)
-                        kills[key] = kills.get(key, 0) + 1
-                        dead.add(worker)
-                elif key == first:
-                    seen_again.add(key)
-            time.sleep(0.05)
+            for key, (worker, pid) in running.items():
+                target = target or key
+                if key == target and kills < times:
+                    os.kill(pid, signal.SIGKILL)
+                    kills, again = kills + 1, False
+                    dead.add(worker)
+                elif key == target:
+                    again = True
+            time.sleep(0.02)
         out, err = bench.communicate(timeout=60)
     finally:
         if bench.poll() is None:
@@ -131,20 +139,36 @@ def test_workers_killed_mid_pair_lose_nothing_and_duplicate_nothing(cluster, tmp
             bench.wait()
     assert bench.returncode == 0, err[-3000:]
     summary = json.loads(out)
-    first, second = list(kills)
-    assert kills == {first: 1, second: 2} and seen_again == {first}       # the first ran again elsewhere
     with sqlite3.connect(store) as db:
         rows = db.execute("select case_key, method_key, session, record from results").fetchall()
-        claims = db.execute("select count(*) from claims").fetchone()[0]
-    records = [json.loads(r[3]) for r in rows]
-    assert len(rows) == len({r[:2] for r in rows}) == 4 == summary["run_now"] and claims == 0
+        assert db.execute("select count(*) from claims").fetchone()[0] == 0
+    assert len(rows) == len({r[:2] for r in rows}) == summary["pairs"] == summary["run_now"]     # each pair once
     assert {r[2] for r in rows} == {summary["session"]}                   # written by the bench's process alone
-    lost = [r for r in records if r["outcome"] == "solver error"]
-    assert len(lost) == 1 and "each of the 2 Dask workers that ran it died" in lost[0]["message"]
-    assert "allowed-failures = 1" in lost[0]["message"] and lost[0]["N"] == 40
-    assert all(r["outcome"] == "ok" and r["total_time_s"] > 0 for r in records if r not in lost), \
-        [(r["label"], r["outcome"]) for r in records]
-    assert all(r["timing"]["executor"] == f"dask {json.loads(file.read_text())['address']}" for r in records)
+    address = json.loads(file.read_text())["address"]
+    records = [json.loads(r[3]) for r in rows]
+    assert all(r["timing"]["executor"] == f"dask {address}" for r in records)
+    return summary, records, kills, again
+
+
+def test_a_worker_killed_mid_pair_loses_nothing_and_duplicates_nothing(cluster, tmp_path):
+    """Killed once in the middle of a pair, its worker's pairs run again elsewhere: every row once,
+    each a solve's answer."""
+    summary, records, kills, again = _bench_killing(cluster, tmp_path, "once", SUITE, 1)
+    assert kills == 1 and again and len(records) == 4
+    assert all(r["outcome"] == "ok" and r["total_time_s"] > 0 for r in records), \
+        [(r["label"], r["outcome"], r["message"]) for r in records]
+
+
+def test_a_pair_that_kills_every_worker_is_a_failure_row(cluster, tmp_path):
+    """Its worker killed each time it runs, the pair is given up after allowed-failures + 1 = 2
+    deaths: its row is a solver error saying so, stored once."""
+    one = SUITE.replace("kappa = [1.0, 2.0]", "kappa = 1.0").replace('transcription = "extremal-search"\n[[methods]]\n',
+                                                                     "")
+    summary, records, kills, again = _bench_killing(cluster, tmp_path, "always", one, 2)
+    assert kills == 2 and not again and len(records) == 1
+    row = records[0]
+    assert row["outcome"] == "solver error" and row["N"] == 100 and row["label"].endswith("N=100")
+    assert "each of the 2 Dask workers that ran it died" in row["message"] and "allowed-failures = 1" in row["message"]
 
 
 @pytest.mark.parametrize("text, words", [

@@ -340,7 +340,7 @@ def merge(out, paths):
         finally:
             store.close()
     base = dumps.pop(0) if len(names) > len(paths) else {"sessions": [], "references": {}, "results": []}
-    plan = _plan(base, dumps, names[len(names) - len(paths):], names[0] if base["sessions"] else None)
+    plan = _plan(base, dumps, names[len(names) - len(paths):], names[0])
     target = Store(out)
     with target._transaction("merge into"):
         target.db.executemany("insert into sessions values (?, ?, ?, ?, ?, ?, ?, ?, ?)", plan["sessions"])

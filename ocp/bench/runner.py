@@ -5,14 +5,18 @@
     measure(case, method, ...)      one pair solved, its times and peak memory (`ocp.bench.measurement`)
     score(measurement, reference)   T - T_ref and the outcome class (`ocp.bench.scoring`)
     run(suite, store, executor)     all of it, row by row into the store, with a progress line
+    shard(pairs, index, count)      the index-th of count disjoint slices of the pairs (`--shard`)
 
 A direct method is classified against the search (`ocp.solving.classify`); the search itself is
 scored against the formula where one applies, else its optimum is the reference of its own case
-and the row says so ("the search scores itself there"). Failures are rows.
+and the row says so ("the search scores itself there"). Failures are rows: a pair whose Dask
+workers all died running it too (`ocp.core.parallel.drain`) is a solver error saying so, and a
+reference lost so is none.
 """
 
 import concurrent.futures as cf
 import contextlib
+import hashlib
 import time
 
 from ..core.errors import Fault, last_line
@@ -20,23 +24,43 @@ from ..core.parallel import Progress, drain, timing_note
 from . import peer
 from .measurement import measure
 from .reference import reference
-from .row import Row, Timing
+from .row import Measurement, Reference, Row, Timing
 from .scoring import score
 from .suite import PEERS
 
 
-def run(suite, store, pool, workers, executor_name, environment):
-    """Run every pair of `suite` not yet in `store` with the suite's settings (references first),
-    storing rows as they complete. Each pair is claimed in the store just before it is submitted:
+def shard(pairs, index, count):
+    """The `index`-th (from 1) of `count` disjoint slices of `pairs`: a pair is in slice 1 + (the
+    SHA-256 of its case and method keys) mod `count`, so each pair is in exactly one slice, whatever
+    the order of the suite and whichever other pairs it holds."""
+    def slice_of(case, method):
+        digest = hashlib.sha256(f"{case.key}\n{method.key}".encode()).digest()
+        return 1 + int.from_bytes(digest[:8], "big") % count
+    return [(c, m) for c, m in pairs if slice_of(c, m) == index]
+
+
+def _died(err):
+    """What happened to a task whose workers all died (Dask's KilledWorker)."""
+    return (f"each of the {err.allowed_failures + 1} Dask workers that ran it died (a crash or out of memory; "
+            f"the scheduler's distributed.scheduler.allowed-failures = {err.allowed_failures})")
+
+
+def run(suite, store, pool, workers, executor_name, environment, part=None):
+    """Run every pair of `suite` (of its shard `part` = (index, count) if given: `shard`) not yet in
+    `store` with the suite's settings (references first, of those pairs' problems), storing rows as
+    they complete. Each pair is claimed in the store just before it is submitted:
     a pair another live `ocp bench` runs is left to it (a note says how many). The peer's pairs are
-    skipped, with a note, when rockit is not installed. Returns {session, executor, records (the
-    Rows of this session), resumed (pairs already stored), claimed_elsewhere, notes}."""
+    skipped, with a note, when rockit is not installed. Returns {session, executor, pairs (those of
+    the shard), records (the Rows of this session), resumed (pairs already stored), claimed_elsewhere,
+    notes}."""
     notes = []
     if not peer.available() and any(m.transcription in PEERS for m in suite.methods):
         notes.append(peer.MISSING)
-    session = store.open_session(suite.name, executor_name, environment)
+    pairs = suite.pairs() if part is None else shard(suite.pairs(), *part)
+    described = executor_name if part is None else f"{executor_name}; shard {part[0]}/{part[1]} of the pairs"
+    session = store.open_session(suite.name, described, environment)
     try:
-        return _run(suite, store, pool, workers, executor_name, session, notes)
+        return _run(suite, pairs, store, pool, workers, executor_name, session, notes)
     except cf.BrokenExecutor as err:
         raise Fault(f"a worker process died ({last_line(err)}; out of memory?)") from None
     finally:
@@ -44,10 +68,11 @@ def run(suite, store, pool, workers, executor_name, environment):
             store.end_session(session)
 
 
-def _run(suite, store, pool, workers, executor_name, session, notes):
+def _run(suite, pairs, store, pool, workers, executor_name, session, notes):
     refs = store.references()
-    needed = list(dict.fromkeys(c.problem_key for c in suite.cases if c.problem_key not in refs))
-    first_case = {c.problem_key: c for c in reversed(suite.cases)}
+    cases = list(dict.fromkeys(c for c, _ in pairs))
+    needed = list(dict.fromkeys(c.problem_key for c in cases if c.problem_key not in refs))
+    first_case = {c.problem_key: c for c in reversed(cases)}
 
     def add_reference(key, ref):
         store.add_reference(key, ref)
@@ -56,10 +81,11 @@ def _run(suite, store, pool, workers, executor_name, session, notes):
 
     if needed:
         drain(pool, workers, [(reference, (first_case[k],), k) for k in needed], add_reference,
-              Progress(len(needed), "references"), label=lambda k: first_case[k].label)
+              Progress(len(needed), "references"), label=lambda k: first_case[k].label,
+              lost=lambda k, err: Reference(problem=k, T=None, T_error=None, source=f"none: {_died(err)}"))
     settings = suite.settings_key
     done = store.done(settings)
-    todo = [(c, m) for c, m in suite.pairs() if (c.key, m.key) not in done
+    todo = [(c, m) for c, m in pairs if (c.key, m.key) not in done
             and (m.transcription not in PEERS or not notes)]
     records, skipped = [], {"stored": 0, "claimed": 0}
     progress = Progress(len(todo), "runs")
@@ -88,10 +114,12 @@ def _run(suite, store, pool, workers, executor_name, session, notes):
         return f"{case.label} | {method.label}: {row.outcome}"
 
     if todo:
-        drain(pool, workers, claimed(), add_result, progress, label=lambda c: f"{c[0].label} | {c[1].label}")
+        drain(pool, workers, claimed(), add_result, progress, label=lambda c: f"{c[0].label} | {c[1].label}",
+              lost=lambda c, err: Measurement(success=False, status="solver_error",
+                                              message=f"solver error: {_died(err)}"))
     if skipped["claimed"]:
         notes.append(f"{skipped['claimed']} pairs were being run by another ocp bench on this store and were left "
                      f"to it; the same command, once it has ended, shows them")
-    return {"session": session, "executor": executor_name, "records": records,
-            "resumed": sum((c.key, m.key) in done for c, m in suite.pairs()) + skipped["stored"],
+    return {"session": session, "executor": executor_name, "pairs": pairs, "records": records,
+            "resumed": sum((c.key, m.key) in done for c, m in pairs) + skipped["stored"],
             "claimed_elsewhere": skipped["claimed"], "notes": notes}

@@ -21,10 +21,17 @@ already stored with the same settings (it resumes). Several `ocp bench` processe
 store: a pair is claimed in a transaction before it runs and skipped by the others while its
 claimer lives (a claim of a dead process, same host: its pid is gone; another host: not seen for
 STALE_S, is taken over). Export: `to_csv`, `to_json`.
+
+`merge(out, stores)` joins stores (the shards of a suite, `ocp bench --shard I/N`, run apart) into
+one: their sessions kept (renumbered, each once: a session is its process and start), references
+merged (those of one problem must agree within their errors), rows of one suite's settings, each
+pair once (a pair in two stores must be the same row; two runs of it are refused). It checks
+everything before it writes, then writes in one transaction.
 """
 
 import contextlib
 import csv
+import dataclasses
 import json
 import os
 import shutil
@@ -37,7 +44,7 @@ from pathlib import Path
 from ..core.errors import Fault, InputError
 from ..core.files import replacing
 from ..core.output import plain
-from ..core.parallel import process_alive
+from ..core.parallel import process_alive, timing_note
 from .row import Reference, Row, from_dict, to_dict
 
 APPLICATION_ID = 0x6F637062     # "ocpb": the SQLite header field that marks an ocp results store
@@ -294,6 +301,17 @@ class Store:
         return [self._read(Row, text, f"row {rowid}")
                 for rowid, text in self._rows("select rowid, record from results order by rowid")]
 
+    def dump(self):
+        """Everything `merge` copies: {sessions: [row tuples], references: {key: Reference},
+        results: [(row tuple, Row)]}, each validated (Fault for one that is not as ocp bench writes it)."""
+        self.sessions()
+        return {"sessions": self._rows("select id, suite, executor, environment, pid, host, started, seen, ended "
+                                       "from sessions order by id"),
+                "references": self.references(),
+                "results": [(r, self._read(Row, r[4], f"row {r[0]} | {r[1]}"))
+                            for r in self._rows("select case_key, method_key, settings_key, session, record, started, "
+                                                "finished from results order by rowid")]}
+
     def _read(self, kind, text, what):
         """The value of dataclass `kind` stored as JSON `text`, or Fault naming `what` and its fault."""
         try:
@@ -302,6 +320,111 @@ class Store:
             problem = str(err) if isinstance(err, ValueError) and not isinstance(err, json.JSONDecodeError) else \
                 f"is not JSON ({err})"
             raise Fault(f"the results store {self.path} is corrupted: {what} {problem}") from None
+
+
+def merge(out, paths):
+    """Merge the stores at `paths` into the store `out` (created if absent; module doc). Returns
+    {stores, sessions, references, rows: how many added, total: rows in `out`}. InputError, before
+    anything is written, for rows of different suite settings, a pair with different rows in two
+    stores, references of a problem that disagree, or `out` among `paths`."""
+    out = Path(out)
+    for path in paths:
+        if out.exists() and Path(path).exists() and os.path.samefile(out, path):
+            raise InputError(f"{out} is both the merged store and a store to merge; name a new file (or another store)")
+    names = [str(out), *map(str, paths)] if out.is_file() and out.stat().st_size else list(map(str, paths))
+    dumps = []
+    for name in names:
+        store = Store(name, write=False)
+        try:
+            dumps.append(store.dump())
+        finally:
+            store.close()
+    base = dumps.pop(0) if len(names) > len(paths) else {"sessions": [], "references": {}, "results": []}
+    plan = _plan(base, dumps, names[len(names) - len(paths):], names[0])
+    target = Store(out)
+    with target._transaction("merge into"):
+        target.db.executemany("insert into sessions values (?, ?, ?, ?, ?, ?, ?, ?, ?)", plan["sessions"])
+        target.db.executemany("insert into references_ values (?, ?)", plan["references"])
+        target.db.executemany("insert into results values (?, ?, ?, ?, ?, ?, ?)", plan["results"])
+    total = len(target.done())
+    target.close()
+    return {"stores": len(paths), "sessions": len(plan["sessions"]), "references": len(plan["references"]),
+            "rows": len(plan["results"]), "total": total}
+
+
+def _plan(base, dumps, names, base_name):
+    """The sessions, references and rows (tuples of the tables) that merging `dumps` (of the stores
+    `names`) adds to a store holding `base` (named `base_name`); InputError for a conflict."""
+    identity = {(s[1], s[2], s[4], s[5], s[6]): s[0] for s in base["sessions"]}     # suite, executor, pid, host, start
+    next_id = max(identity.values(), default=0) + 1
+    refs = {key: (ref, base_name) for key, ref in base["references"].items()}
+    rows = {(r[0], r[1]): (row, base_name) for r, row in base["results"]}
+    settings = {r[2]: base_name for r, _ in base["results"]}
+    plan = {"sessions": [], "references": [], "results": []}
+    for name, dump in zip(names, dumps):
+        ids = {}
+        for i, suite, executor, env, pid, host, started, seen, ended in dump["sessions"]:
+            key = (suite, executor, pid, host, started)
+            if key not in identity:
+                identity[key], next_id = next_id, next_id + 1
+                plan["sessions"].append((identity[key], suite, executor, env, pid, host, started, seen,
+                                         seen if ended is None else ended))     # a merged session writes no more
+            ids[i] = identity[key]
+        for key, ref in dump["references"].items():
+            if key not in refs:
+                refs[key] = ref, name
+                plan["references"].append((key, json.dumps(to_dict(ref), allow_nan=False)))
+            elif not _agree(ref, refs[key][0]):
+                raise InputError(f"the references of {key} in {refs[key][1]} (T = {refs[key][0].T}) and in {name} "
+                                 f"(T = {ref.T}) disagree beyond their errors: merge stores run by the same code")
+        for (case, method, settings_key, session, record, started, finished), row in dump["results"]:
+            settings.setdefault(settings_key, name)
+            if len(settings) > 1:
+                (a, a_name), (b, b_name) = list(settings.items())[:2]
+                raise InputError(f"{a_name} and {b_name} hold rows of different suite settings ({_settings(a)}; "
+                                 f"{_settings(b)}): merge the stores of one suite's settings")
+            row = _renumbered(row, ids)
+            if (case, method) in rows:
+                if _untimed(row) != _untimed(rows[case, method][0]):
+                    raise InputError(f"{row.case_label} | {row.label} is in {rows[case, method][1]} and in {name} "
+                                     f"with different rows (two runs of it): merge stores of disjoint pairs, such "
+                                     f"as the shards of one suite (ocp bench --shard I/N)")
+                continue
+            rows[case, method] = row, name
+            plan["results"].append((case, method, settings_key, ids.get(session, session),
+                                    json.dumps(plain(to_dict(row)), allow_nan=False), started, finished))
+    return plan
+
+
+def _renumbered(row, ids):
+    """`row` with the sessions it names (how it was timed) renumbered by `ids`."""
+    others = tuple(ids.get(i, i) for i in row.timing.concurrent_sessions)
+    if others == row.timing.concurrent_sessions:
+        return row
+    return dataclasses.replace(row, timing=dataclasses.replace(
+        row.timing, concurrent_sessions=others, note=timing_note(row.timing.workers or 1, others)))
+
+
+def _untimed(row):
+    """A row's data without how it was timed (which a merge renumbers)."""
+    return {k: v for k, v in to_dict(row).items() if k != "timing"}
+
+
+def _agree(a, b):
+    """Whether two References of one problem agree: both without an optimum, or the same structure
+    and branch with T within the sum of their errors."""
+    if a.T is None or b.T is None:
+        return a.T is None and b.T is None
+    return (a.arc_signs, a.branch) == (b.arc_signs, b.branch) and \
+        abs(a.T - b.T) <= (a.T_error or 0.0) + (b.T_error or 0.0)
+
+
+def _settings(key):
+    """A settings key (`ocp.bench.suite.Suite.settings_key`) in words."""
+    try:
+        return ", ".join(f"{k} = {'none' if v is None else v}" for k, v in json.loads(key).items())
+    except (TypeError, ValueError, AttributeError):
+        return repr(key)[:60]
 
 
 def flat(record, prefix=""):

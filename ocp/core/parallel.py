@@ -4,8 +4,10 @@ loop that feeds it, and a progress line.
 
     executor(jobs, scheduler)        (executor, workers, description): serial, local processes
                                      (workers end with their parent: `die_with_parent`), or Dask
+                                     (`scheduler_address`: tcp:// or tls://, or a scheduler file)
     drain(pool, workers, tasks, ...) tasks submitted at most 2 per worker, each handled as it
-                                     finishes (not in submission order)
+                                     finishes (not in submission order); a task whose Dask workers
+                                     all died running it (`lost_worker`) handed to `lost`
     Progress(total, what)            a line on stderr from the first second: done/total, elapsed,
                                      an estimate of what is left, and what is running now
     timing_note(workers, others)     how a row was timed (alone, in parallel, beside other sessions)
@@ -15,10 +17,12 @@ import concurrent.futures as cf
 import contextlib
 import ctypes
 import gc
+import json
 import os
 import re
 import signal
 import socket
+import ssl
 import sys
 import threading
 import time
@@ -26,8 +30,13 @@ from pathlib import Path
 
 from .errors import InputError, last_line
 
-#: a Dask scheduler address: scheme://host:port
-SCHEDULER = re.compile(r"(tcp|tls|ws|wss|ucx)://([A-Za-z0-9.\-]+|\[[0-9A-Fa-f:]+\]):([0-9]{1,5})")
+#: the Dask scheduler addresses accepted (an allow-list): tcp:// (plain) or tls:// (encrypted and
+#: authenticated by the certificates of Dask's configuration), host (a name, IPv4 or [IPv6]) and port
+SCHEDULER = re.compile(r"(tcp|tls)://([A-Za-z0-9.\-]+|\[[0-9A-Fa-f:]+\]):([0-9]{1,5})")
+ACCEPTED = ("tcp://host:8786 or tls://host:8786, or the JSON file that `dask scheduler --scheduler-file FILE` "
+            "writes")
+#: the largest scheduler file read
+SCHEDULER_FILE_BYTES = 100_000
 #: seconds to reach a scheduler and hear its handshake
 CONNECT_S = 10.0
 PR_SET_PDEATHSIG = 1
@@ -46,39 +55,79 @@ class SerialExecutor(cf.Executor):
         return future
 
 
+def scheduler_address(value):
+    """The scheduler address of --scheduler `value`: an address of the allow-list SCHEDULER (a port
+    from 1 to 65535), or a file naming one (`dask scheduler --scheduler-file`: a JSON object whose
+    "address" is such an address); InputError otherwise."""
+    def refused(why):
+        return InputError(f"--scheduler {value[:60]!r} {why}; accepted: {ACCEPTED}")
+
+    def checked(address, why):
+        match = isinstance(address, str) and SCHEDULER.fullmatch(address)
+        if not match or not 1 <= int(match[3]) <= 65535:
+            raise refused(why)
+        return address
+
+    if "://" in value or not value.strip():
+        return checked(value, "is not an accepted scheduler address")
+    path = Path(value)
+    if not path.is_file():
+        raise refused("is neither a scheduler address nor a scheduler file")
+    try:
+        with path.open("rb") as f:
+            raw = f.read(SCHEDULER_FILE_BYTES + 1)
+        if len(raw) > SCHEDULER_FILE_BYTES:
+            raise ValueError("too long")
+        data = json.loads(raw.decode())
+    except (OSError, ValueError, RecursionError):
+        raise refused("is not a scheduler file (JSON, at most 100 kB)") from None
+    return checked(data.get("address") if isinstance(data, dict) else None,
+                   "is a file without an accepted scheduler \"address\"")
+
+
 def probe_scheduler(address, timeout=None):
-    """InputError unless a tcp:// `address` accepts a connection and speaks first within `timeout`
-    seconds, as a Dask scheduler does (its comm handshake is sent on accept); a server that accepts
-    and says nothing would hold Dask's client past its own timeout (CONNECT_S by default). Other schemes (tls, ws, ucx)
-    open with the client's message: they are left to Dask's timeout."""
+    """InputError unless `address` accepts a connection and answers within `timeout` seconds (a
+    server that accepts and says nothing would hold Dask's client past its own timeout; CONNECT_S by
+    default): on tcp:// a Dask scheduler speaks first (its comm handshake is sent on accept); on
+    tls:// the server answers the TLS handshake (checked here without certificates: it is Dask's
+    client that authenticates, with those of Dask's configuration)."""
     timeout = CONNECT_S if timeout is None else timeout
     scheme, host, port = SCHEDULER.fullmatch(address).groups()
-    if scheme != "tcp":
-        return
     try:
         with socket.create_connection((host.strip("[]"), int(port)), timeout=timeout) as s:
             s.settimeout(max(0.1, timeout))
-            if not s.recv(1):
+            if scheme == "tls":
+                _answers_tls(s, host.strip("[]"))
+            elif not s.recv(1):
                 raise InputError(f"the server at {address} closed the connection: it is not a Dask scheduler")
     except TimeoutError:
-        raise InputError(f"the server at {address} accepted but sent no Dask handshake within {timeout:g} s: "
+        raise InputError(f"the server at {address} accepted but sent no handshake within {timeout:g} s: "
                          f"it is not a Dask scheduler") from None
     except OSError as err:
         raise InputError(f"cannot reach the Dask scheduler at {address}: {last_line(err)}") from None
 
 
+def _answers_tls(sock, host):
+    """Return once the server on `sock` has answered a TLS handshake (completed or refused: it speaks
+    TLS); TimeoutError when it says nothing."""
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
+    context.check_hostname, context.verify_mode = False, ssl.CERT_NONE
+    with contextlib.suppress(ssl.SSLError, ConnectionResetError):
+        with context.wrap_socket(sock, server_hostname=host, do_handshake_on_connect=False) as tls:
+            tls.do_handshake()
+
+
 @contextlib.contextmanager
 def executor(jobs=1, scheduler=None):
     """(executor, workers, description): local processes (`jobs`), or a Dask distributed cluster at
-    `scheduler` (the `dask` extra), all behind concurrent.futures.Executor."""
+    `scheduler` (an address or scheduler file, `scheduler_address`; the `dask` extra), all behind
+    concurrent.futures.Executor."""
     if scheduler:
         try:
             import distributed
         except ImportError:
             raise InputError("--scheduler needs Dask distributed: pip install 'ocp[dask]'") from None
-        if not SCHEDULER.fullmatch(scheduler):
-            raise InputError(f"--scheduler {scheduler[:60]!r} is not a scheduler address; accepted: an address such as "
-                             f"tcp://host:8786 (tcp, tls, ws, wss, ucx)")
+        scheduler = scheduler_address(scheduler)
         probe_scheduler(scheduler)
         try:
             client = distributed.Client(scheduler, timeout=CONNECT_S)
@@ -184,10 +233,13 @@ class Progress:
             self.stream.flush()
 
 
-def drain(pool, workers, tasks, handle, progress, label=None):
+def drain(pool, workers, tasks, handle, progress, label=None, lost=None):
     """Submit tasks (fn, args, context), at most 2 per worker in flight; handle(context, result) each
     as it completes, in the order they finish; `label(context)` names a running task on the
-    progress line. An interruption cancels what has not started; handled rows stay handled."""
+    progress line. A task whose workers all died running it (`lost_worker`: Dask runs a task again
+    elsewhere when its worker dies, and gives up after `distributed.scheduler.allowed-failures`
+    deaths) is handled with `lost(context, err)` as its result (raised without `lost`). An
+    interruption cancels what has not started; handled rows stay handled."""
     tasks, pending, submitting = iter(tasks), {}, []
     progress.begin(lambda: _running(pending, submitting, label) if label else ())
     try:
@@ -203,11 +255,23 @@ def drain(pool, workers, tasks, handle, progress, label=None):
             done, _ = cf.wait(pending, return_when=cf.FIRST_COMPLETED)
             for future in [f for f in pending if f in done]:      # those done at once: in submission order
                 context = pending.pop(future)
-                progress.step(handle(context, future.result()))
+                try:
+                    result = future.result()
+                except Exception as err:
+                    if lost is None or not lost_worker(err):
+                        raise
+                    result = lost(context, err)
+                progress.step(handle(context, result))
     finally:
         progress.end()
         for future in pending:
             future.cancel()
+
+
+def lost_worker(err):
+    """Whether `err` says that every worker which ran a task died (Dask's KilledWorker)."""
+    distributed = sys.modules.get("distributed")
+    return distributed is not None and isinstance(err, distributed.KilledWorker)
 
 
 def _running(pending, submitting, label):

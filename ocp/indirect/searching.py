@@ -279,18 +279,25 @@ STATUS_MESSAGES = {
 
 class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
-    index in arc) -> (t, theta)."""
+    index in arc) -> (t, theta), and where the integration ended (to extend it from there)."""
 
-    __slots__ = ("phi", "u0", "duration", "events")
+    __slots__ = ("phi", "u0", "duration", "events", "end")
 
     def __init__(self, family, phi, u0, duration):
-        self.phi, self.u0 = phi, u0
+        self.phi, self.u0, self.events, self.duration, self.end = phi, u0, {}, 0.0, None
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
-        _, _, _, events = family.run(self.phi, self.u0, duration, taylor.SCAN)
+        """Integrated on to `duration`, from where the last integration ended."""
+        n_sw, switches, _, events, end = family.run(self.phi, self.u0, duration - self.duration, taylor.SCAN,
+                                                    None if self.end is None else self.end[:2])
+        arcs, index = (0, 0) if self.end is None else self.end[2:]
+        for t, theta, arc, i, _, _ in events:
+            label = (arcs + int(arc), int(i) + (index if arc == 0 else 0))
+            self.events[label] = (t + self.duration, theta)
+        last = sum(1 for e in events if e[2] == n_sw)
+        self.end = (*end, arcs + n_sw, last + (index if n_sw == 0 else 0))
         self.duration = duration
-        self.events = {(int(e[2]), int(e[3])): (e[0], e[1]) for e in events}
 
 
 class _Family:
@@ -305,13 +312,17 @@ class _Family:
         self._none = np.empty(0)
         self._no_samples = np.empty((0, 3))
 
-    def run(self, phi, u0, duration, accuracy):
-        """(switch count, switches, event count, events) of the extremal with costate angle phi."""
+    def run(self, phi, u0, duration, accuracy, start=None):
+        """(switch count, switches, event count, events, (final y, final u)) of the extremal with
+        costate angle phi, or of its continuation from `start` (a previous run's final (y, u))."""
         tol, order = accuracy
-        seam = abs(math.sin(phi)) < 1e-15
-        y0 = np.array([self.x0[0], self.x0[1], math.cos(phi), 0.0 if seam else math.sin(phi)])
+        if start is None:
+            seam = abs(math.sin(phi)) < 1e-15
+            y0, u_start = np.array([self.x0[0], self.x0[1], math.cos(phi), 0.0 if seam else math.sin(phi)]), float(u0)
+        else:
+            y0, u_start = start
         while True:
-            n_sw, n_ev, _, _, steps = taylor.extremal(y0, self.kappa, float(u0), duration, 1.0, tol, order,
+            n_sw, n_ev, y, u, steps = taylor.extremal(y0, self.kappa, u_start, duration, 1.0, tol, order,
                                                       self._switches, self._events, self._none, self._no_samples)
             if n_sw <= len(self._switches) and n_ev <= len(self._events):
                 break
@@ -319,7 +330,7 @@ class _Family:
             self._events = np.empty((2 * max(n_ev, len(self._events)), 6))
         self.count += 1
         self.steps_per_time = steps / duration
-        return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy()
+        return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy(), (y, u)
 
     def sample(self, phi, u0, duration):
         return _Sample(self, phi, u0, duration)
@@ -408,7 +419,7 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
     def turning_point(phi):
         nonlocal duration
         while True:
-            _, switches, _, events = family.run(phi, u0, duration, accuracy)
+            _, switches, _, events, _ = family.run(phi, u0, duration, accuracy)
             hit = [e for e in events if (int(e[2]), int(e[3])) == label]
             if hit or duration > 2 * t_guess + 10:
                 return (hit[0] if hit else None), switches

@@ -90,6 +90,17 @@ def _slope(c, K, i, tau):
 
 
 @nb.njit(cache=True)
+def _clear(c, K, i, h):
+    """Whether component i's polynomial keeps the sign of its value at 0 on [0, h] (h > 0 or < 0):
+    |c_0| > sum_k |c_k| |h|^k excludes every zero there (then no sign change need be looked for)."""
+    h = abs(h)
+    v = abs(c[K, i])
+    for k in range(K - 1, 0, -1):
+        v = v * h + abs(c[k, i])
+    return abs(c[0, i]) > v * h
+
+
+@nb.njit(cache=True)
 def _zero(c, K, i, a, b):
     """The zero of component i's polynomial between a and b (values of opposite signs there):
     Newton kept inside the shrinking bracket, bisection where it would leave it."""
@@ -150,7 +161,7 @@ def extremal(y0, kappa, u_start, duration, direction, tol, K, switches, events, 
         stop = direction * h
         switched = False
         before = 0.0
-        for q in range(1, SUBSTEPS + 1):
+        for q in range(1, 0 if _clear(c, K, 3, stop) else SUBSTEPS + 1):
             tq = stop * q / SUBSTEPS
             if u * _at(c, K, 3, tq) < 0.0:
                 stop = _zero(c, K, 3, before, tq)
@@ -159,7 +170,7 @@ def extremal(y0, kappa, u_start, duration, direction, tol, K, switches, events, 
             before = tq
         w0 = c[0, 1]
         before = 0.0
-        for q in range(1, SUBSTEPS + 1):
+        for q in range(1, 0 if _clear(c, K, 1, stop) else SUBSTEPS + 1):
             tq = stop * q / SUBSTEPS
             w1 = _at(c, K, 1, tq)
             if (w0 > 0.0 and w1 <= 0.0) or (w0 < 0.0 and w1 >= 0.0):

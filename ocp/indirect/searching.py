@@ -292,10 +292,10 @@ class _Sample:
         n_sw, switches, _, events, end = family.run(self.phi, self.u0, duration - self.duration, taylor.SCAN,
                                                     None if self.end is None else self.end[:2])
         arcs, index = (0, 0) if self.end is None else self.end[2:]
-        for t, theta, arc, i, _, _ in events:
-            label = (arcs + int(arc), int(i) + (index if arc == 0 else 0))
-            self.events[label] = (t + self.duration, theta)
-        last = sum(1 for e in events if e[2] == n_sw)
+        last = 0
+        for t, theta, arc, i, _, _ in events.tolist():
+            self.events[arcs + int(arc), int(i) + (index if arc == 0 else 0)] = (t + self.duration, theta)
+            last = last + 1 if arc == n_sw else last
         self.end = (*end, arcs + n_sw, last + (index if n_sw == 0 else 0))
         self.duration = duration
 

@@ -11,7 +11,9 @@ Jorba-Zou choice h = min_{k = K-1, K} (tol / |y_k|)^(1/k) * exp(-0.7/(K-1)), |y_
 k-th coefficient (the costate normalised to |p| = 1 at every step: only its direction matters).
 Each step is a polynomial in time, so events are located on it exactly: switches at the zeros of
 p2 (u = sign(p2)), turning points at the zeros of omega, both by safeguarded Newton on the
-polynomial after a sign change among SUBSTEPS samples of the step.
+polynomial after a sign change among SUBSTEPS samples of the step. A step on which
+|c_0| > sum_k |c_k| h^k for a component has no zero of it, and is not sampled for one (most steps:
+the same events, found at a fraction of the cost).
 
 Why no zero is missed: a zero of p2 is always transversal on a normal extremal (p2 = 0 and H = 0
 give p1*omega = 1, so p2' = -p1 != 0), and a zero of omega could only be tangential at an

@@ -149,7 +149,8 @@ class Extremal:
 class Coverage:
     """What a scan examined (`basis` "scan"; "near target": the closed form of `ocp.indirect.near`,
     every extremal before `horizon` compared): the acceptance `horizon`, the admissible phi
-    `intervals` (lo, hi, u0) scanned, the number of extremals integrated, the finest phi spacing
+    `intervals` (lo, hi, u0) scanned, the number of extremals integrated (by this scan and the search's
+    earlier ones, whose samples it extends), the finest phi spacing
     reached, the intervals left unresolved at MIN_WIDTH (phi_lo, phi_hi, the nearest approach of a
     turning point to a target there, -1 if unknown), and the `singular` intervals: isolated to
     MIN_WIDTH around an extremal that reaches a saddle of its arc's field, whose turning point there
@@ -211,7 +212,7 @@ class Coverage:
 class Progress:
     """Where a search is, for a progress report: seconds `elapsed`, the `horizon` of the scan, the
     first control `u0` of the half-circle being scanned and the costate angle `phi` reached, the
-    extremals integrated and the arrivals bracketed in this scan, the best time found before."""
+    extremals integrated so far and the arrivals bracketed in this scan, the best time found before."""
 
     elapsed: float
     horizon: float
@@ -315,6 +316,7 @@ class _Family:
         self._events = np.empty((256, 6))
         self._none = np.empty(0)
         self._no_samples = np.empty((0, 3))
+        self._samples = {}
 
     def run(self, phi, u0, duration, accuracy, start=None):
         """(switch count, switches, event count, events, (final y, final u)) of the extremal with
@@ -337,7 +339,14 @@ class _Family:
         return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy(), (y, u)
 
     def sample(self, phi, u0, duration):
-        return _Sample(self, phi, u0, duration)
+        """The _Sample of phi integrated at least for `duration`: the one of an earlier scan (the
+        same grid and midpoints at every horizon), extended if shorter."""
+        sample = self._samples.get((phi, u0))
+        if sample is None:
+            sample = self._samples[phi, u0] = _Sample(self, phi, u0, duration)
+        elif sample.duration < duration:
+            sample.integrate(self, duration)
+        return sample
 
 
 def admissible_intervals(x0, kappa):
@@ -502,13 +511,14 @@ def _distinct(arrivals):
     return kept
 
 
-def scan(problem, horizon, original=None, clock=None, halves=2):
+def scan(problem, horizon, original=None, clock=None, halves=2, family=None):
     """(arrivals, Coverage) of every extremal reaching the target before horizon * (1 - HORIZON_BAND)
     (`original`: `problem` is `_Backward(original)`, the arrivals are read forwards; `halves` = 1:
-    the first admissible half-circle only; `clock`: a _Clock whose time limit may end the scan)."""
+    the first admissible half-circle only; `clock`: a _Clock whose time limit may end the scan;
+    `family`: the _Family of `problem` of an earlier scan, whose samples are reused)."""
     start = time.perf_counter()
     clock = clock or _Clock(None, None)
-    family = _Family(problem.x0, problem.kappa)
+    family = family or _Family(problem.x0, problem.kappa)
     accept = horizon * (1 - HORIZON_BAND)
     intervals = admissible_intervals(problem.x0, problem.kappa)[:halves]
     brackets, unresolved, singular, finest = [], [], [], math.inf
@@ -643,9 +653,9 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
         rest = problem.x0[1] == 0.0 and problem.branch is None and problem.kappa >= HEADROOM_KAPPA
         guess = HEADROOM * problem.time_estimate if rest else 0.0
         horizon = min(max(GROWTH * scanned.lower_bound, guess), MAX_HORIZON)
-    notes, done = [], None
+    notes, done, family = [], None, _Family(scanned.x0, scanned.kappa)
     while True:
-        arrivals, coverage = scan(scanned, horizon, original, clock, halves)
+        arrivals, coverage = scan(scanned, horizon, original, clock, halves, family)
         if clock.stopped:
             if done is not None:        # the previous scan was complete: only the runner-up's extension was cut
                 return Search(*done, tuple(notes + ["the time limit cut the scan for the runner-up"]))

@@ -7,8 +7,9 @@ near the upright, fast starts, a start far out, both readings): `ocp.indirect.se
 (the compiled kernels loaded by a first search), its CPU seconds (the least of `repeats` runs: the
 machine is shared, CPU time is what the search costs), the extremals it integrated, its status,
 T and the switch count. With --before REV the same cases are run, in a subprocess, by the code of
-the git revision REV (exported to a temporary folder), and the table shows both and their ratio.
-A search still running at --time-limit seconds (wall) stops there: status "stopped".
+the git revision REV (exported to a temporary folder), case by case in turn with this code (the
+two sides share the machine's load), and the table shows both and their ratio. A search still
+running at --time-limit seconds (wall) stops there: status "stopped".
 """
 
 import argparse
@@ -32,12 +33,15 @@ CASES = ([("swing-up", k, (0.0, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 
 
 
 def measure(cases, repeats, limit):
-    """One JSON line per case: CPU seconds (least of `repeats`), extremals, status, T, switches."""
+    """For each case index read from stdin, a JSON line: CPU seconds (least of `repeats`),
+    extremals, status, T, switches."""
     from ocp.core.problem import make
     from ocp.indirect import search
 
     search(make("swing-up", 1.0))
-    for kind, kappa, x0, branch in cases:
+    print("ready", flush=True)
+    for line in sys.stdin:
+        kind, kappa, x0, branch = cases[int(line)]
         problem = make(kind, kappa, x0, branch)
         best = math.inf
         for _ in range(repeats):
@@ -47,19 +51,25 @@ def measure(cases, repeats, limit):
             if found.coverage.stopped:
                 break
         a = found.best
-        print(json.dumps({"case": [kind, kappa, list(x0), branch], "cpu_s": best, "extremals": found.coverage.extremals,
-                          "status": found.status, "T": None if a is None else a.T,
-                          "switches": None if a is None else a.n_switches}), flush=True)
+        print(json.dumps({"cpu_s": best, "extremals": found.coverage.extremals, "status": found.status,
+                          "T": None if a is None else a.T, "switches": None if a is None else a.n_switches}), flush=True)
 
 
-def run(tree, args):
-    """The lines of `measure` run by the code in `tree` (a subprocess, so that each side compiles its own)."""
-    env = dict(os.environ, PYTHONPATH=str(tree))
+def worker(tree, args):
+    """A subprocess running `measure` on the code in `tree` (each side compiles its own), once ready."""
     command = [sys.executable, __file__, "--worker", "--repeats", str(args.repeats), "--time-limit", str(args.time_limit)]
     if args.only:
         command += ["--only", args.only]
-    out = subprocess.run(command, env=env, capture_output=True, text=True, check=True).stdout
-    return {json.dumps(r["case"]): r for r in map(json.loads, out.splitlines())}
+    process = subprocess.Popen(command, env=dict(os.environ, PYTHONPATH=str(tree)), stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, text=True)
+    assert process.stdout.readline().strip() == "ready"
+    return process
+
+
+def ask(process, i):
+    process.stdin.write(f"{i}\n")
+    process.stdin.flush()
+    return json.loads(process.stdout.readline())
 
 
 def main():
@@ -74,23 +84,24 @@ def main():
     if args.worker:
         return measure(cases, args.repeats, args.time_limit)
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
-    after = run(ROOT, args)
-    before = {}
-    if args.before:
-        with tempfile.TemporaryDirectory() as tree:
+    with tempfile.TemporaryDirectory() as tree:
+        sides = [worker(ROOT, args)]
+        if args.before:
             archive = subprocess.run(["git", "archive", args.before, "ocp"], capture_output=True, check=True, cwd=ROOT).stdout
             subprocess.run(["tar", "-x", "-C", tree], input=archive, check=True)
-            before = run(tree, args)
+            sides.append(worker(tree, args))
+        rows = [[ask(side, i) for side in sides] for i in range(len(cases))]
+        for side in sides:
+            side.stdin.close()
+            side.wait()
     print(f"commit {commit}{f' against {args.before}' if args.before else ''}: the search alone, warm, CPU s "
           f"(least of {args.repeats}), time limit {args.time_limit:g} s\n")
     print("| problem | start | reading | kappa | T | switches | extremals | CPU s | before: extremals | CPU s | status | ratio |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
-    for key, r in after.items():
-        kind, kappa, x0, branch = json.loads(key)
-        b = before.get(key)
+    for (kind, kappa, x0, branch), (r, *b) in zip(cases, rows):
         T = "-" if r["T"] is None else f"{r['T']:.12g}"
-        then = "| - | - | - | -" if b is None else (f"| {b['extremals']} | {b['cpu_s']:.4f} | {b['status']} | "
-                                                   f"{b['cpu_s'] / r['cpu_s']:.1f}")
+        then = "| - | - | - | -" if not b else (f"| {b[0]['extremals']} | {b[0]['cpu_s']:.4f} | {b[0]['status']} | "
+                                               f"{b[0]['cpu_s'] / r['cpu_s']:.1f}")
         print(f"| {kind} | ({x0[0]:.4g}, {x0[1]:.4g}) | {'circle' if branch is None else f'plane {branch}'} | {kappa:g} | "
               f"{T} ({r['status']}) | {r['switches']} | {r['extremals']} | {r['cpu_s']:.4f} {then} |")
 

@@ -149,8 +149,8 @@ class Extremal:
 class Coverage:
     """What a scan examined (`basis` "scan"; "near target": the closed form of `ocp.indirect.near`,
     every extremal before `horizon` compared): the acceptance `horizon`, the admissible phi
-    `intervals` (lo, hi, u0) scanned, the number of extremals integrated (by this scan and the search's
-    earlier ones, whose samples it extends), the finest phi spacing
+    `intervals` (lo, hi, u0) scanned, the number of extremals integrated (from t = 0, by this scan and the
+    search's earlier ones: a sample extended from where it ended counts once), the finest phi spacing
     reached, the intervals left unresolved at MIN_WIDTH (phi_lo, phi_hi, the nearest approach of a
     turning point to a target there, -1 if unknown), and the `singular` intervals: isolated to
     MIN_WIDTH around an extremal that reaches a saddle of its arc's field, whose turning point there
@@ -334,7 +334,7 @@ class _Family:
                 break
             self._switches = np.empty((2 * max(n_sw, len(self._switches)), 5))
             self._events = np.empty((2 * max(n_ev, len(self._events)), 6))
-        self.count += 1
+        self.count += start is None
         self.steps_per_time = steps / duration
         return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy(), (y, u)
 

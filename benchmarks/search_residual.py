@@ -3,6 +3,10 @@ brute force of tests/test_search.py (a dense uniform grid of costate angles, eve
 on random states and kappa, both kinds, both readings, one JSON line per state (resumable by seed).
 
     python benchmarks/search_residual.py OUT.jsonl FIRST_SEED LAST_SEED
+    python benchmarks/search_residual.py --summary FILE.jsonl...
+
+Shards are seed ranges (run them in parallel, under nice, each into its own file); --summary counts
+the states of every file given, by status, and the brute-force arrivals missed.
 
 A line: the problem, the search's status and reading, its best T, the brute force's best and count,
 and `missing`: the brute-force arrivals (before the search's horizon) that the search did not find.
@@ -33,7 +37,21 @@ def state(seed):
     return make(kind, kappa, x0, None if rng.random() < 0.5 else int(rng.integers(-1, 2)))
 
 
+def summary(paths):
+    """The states by status, those compared with the brute force, and the arrivals missed (with their seeds)."""
+    rows = [json.loads(line) for path in paths for line in Path(path).read_text().splitlines()]
+    statuses = {}
+    for r in rows:
+        statuses[r["status"]] = statuses.get(r["status"], 0) + 1
+    compared = [r for r in rows if "missing" in r]
+    missed = [(r["seed"], T) for r in compared for T in r["missing"]]
+    print(f"{len(rows)} states ({', '.join(f'{n} {s}' for s, n in sorted(statuses.items()))}); {len(compared)} compared "
+          f"with the brute force ({sum(r['n_brute'] for r in compared)} arrivals): {len(missed)} missed {missed}")
+
+
 def main():
+    if sys.argv[1] == "--summary":
+        return summary(sys.argv[2:])
     out_path, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
     with open(out_path, "a") as out:
         for seed in range(first, last):

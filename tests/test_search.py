@@ -102,3 +102,19 @@ def test_the_time_limit_ends_a_long_search_with_the_best_so_far_and_progress_is_
     assert result.coverage.stopped and not result.coverage.complete
     assert result.status in ("stopped", "stopped, none") and "time limit" in result.message
     assert reports and all(isinstance(r, S.Progress) and "scanning arrivals before" in str(r) for r in reports)
+
+
+@pytest.mark.parametrize("x0, kappa, phi, u0", [((0.0, 0.0), 0.3, 1.0, 1), ((2.5, -0.3), 0.1, 2.9, 1), ((0.0, 2.0), 0.5, 5.4, -1)])
+def test_an_extremal_extended_from_where_it_ended_has_the_turning_points_of_one_integrated_at_once(x0, kappa, phi, u0):
+    """A sample extended (the scan's longer look past the horizon, a later scan's horizon) continues from its
+    final state: the same labels (arc, index in arc) as an integration to the end in one run, the same
+    times and angles to the scan's accuracy."""
+    family = S._Family(x0, kappa)
+    extended = family.sample(phi, u0, 7.0)
+    for duration in (13.0, 30.0):
+        extended.integrate(family, duration)
+        whole = S._Sample(family, phi, u0, duration)
+        assert set(extended.events) == set(whole.events)
+        for label, (t, theta) in whole.events.items():
+            assert extended.events[label] == pytest.approx((t, theta), abs=1e-6)
+    assert len(whole.events) >= 3, "too few turning points to test the labels' continuation"

@@ -38,8 +38,12 @@ extremals reversed), because forwards from near the saddle every passage by it s
 and the scan resolves an exponentially growing fan of singular extremals (5e6 extremals for the
 damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under theta -> 2c - theta
 (at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
-moving start near the upright is still scanned forwards, and may be slow: `time_limit` ends it
-with the best arrival so far (status "stopped", not proven optimal).
+moving start near the upright is still scanned forwards, and may be slow: each extremal that
+reaches a saddle is isolated by bisection to MIN_WIDTH (2 log2(pi / (SAMPLES MIN_WIDTH)) extremals
+each), and their number grows with the horizon (hundreds for the damping from (2.5, -0.3) at
+kappa = 0.1); from a fast start the turning points cross hundreds of targets within 20 % of the
+best time, each an arrival solved. `time_limit` ends a scan with the best arrival so far
+(status "stopped", not proven optimal).
 """
 
 import math
@@ -145,7 +149,8 @@ class Extremal:
 class Coverage:
     """What a scan examined (`basis` "scan"; "near target": the closed form of `ocp.indirect.near`,
     every extremal before `horizon` compared): the acceptance `horizon`, the admissible phi
-    `intervals` (lo, hi, u0) scanned, the number of extremals integrated, the finest phi spacing
+    `intervals` (lo, hi, u0) scanned, the number of extremals integrated (from t = 0, by this scan and the
+    search's earlier ones: a sample extended from where it ended counts once), the finest phi spacing
     reached, the intervals left unresolved at MIN_WIDTH (phi_lo, phi_hi, the nearest approach of a
     turning point to a target there, -1 if unknown), and the `singular` intervals: isolated to
     MIN_WIDTH around an extremal that reaches a saddle of its arc's field, whose turning point there
@@ -207,7 +212,7 @@ class Coverage:
 class Progress:
     """Where a search is, for a progress report: seconds `elapsed`, the `horizon` of the scan, the
     first control `u0` of the half-circle being scanned and the costate angle `phi` reached, the
-    extremals integrated and the arrivals bracketed in this scan, the best time found before."""
+    extremals integrated so far and the arrivals bracketed in this scan, the best time found before."""
 
     elapsed: float
     horizon: float
@@ -279,18 +284,25 @@ STATUS_MESSAGES = {
 
 class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
-    index in arc) -> (t, theta)."""
+    index in arc) -> (t, theta), and where the integration ended (to extend it from there)."""
 
-    __slots__ = ("phi", "u0", "duration", "events")
+    __slots__ = ("phi", "u0", "duration", "events", "end")
 
     def __init__(self, family, phi, u0, duration):
-        self.phi, self.u0 = phi, u0
+        self.phi, self.u0, self.events, self.duration, self.end = phi, u0, {}, 0.0, None
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
-        _, _, _, events = family.run(self.phi, self.u0, duration, taylor.SCAN)
+        """Integrated on to `duration`, from where the last integration ended."""
+        n_sw, _, _, events, end = family.run(self.phi, self.u0, duration - self.duration, taylor.SCAN,
+                                              None if self.end is None else self.end[:2])
+        arcs, index = (0, 0) if self.end is None else self.end[2:]
+        last = 0
+        for t, theta, arc, i, _, _ in events.tolist():
+            self.events[arcs + int(arc), int(i) + (index if arc == 0 else 0)] = (t + self.duration, theta)
+            last = last + 1 if arc == n_sw else last
+        self.end = (*end, arcs + n_sw, last + (index if n_sw == 0 else 0))
         self.duration = duration
-        self.events = {(int(e[2]), int(e[3])): (e[0], e[1]) for e in events}
 
 
 class _Family:
@@ -304,25 +316,37 @@ class _Family:
         self._events = np.empty((256, 6))
         self._none = np.empty(0)
         self._no_samples = np.empty((0, 3))
+        self._samples = {}
 
-    def run(self, phi, u0, duration, accuracy):
-        """(switch count, switches, event count, events) of the extremal with costate angle phi."""
+    def run(self, phi, u0, duration, accuracy, start=None):
+        """(switch count, switches, event count, events, (final y, final u)) of the extremal with
+        costate angle phi, or of its continuation from `start` (a previous run's final (y, u))."""
         tol, order = accuracy
-        seam = abs(math.sin(phi)) < 1e-15
-        y0 = np.array([self.x0[0], self.x0[1], math.cos(phi), 0.0 if seam else math.sin(phi)])
+        if start is None:
+            seam = abs(math.sin(phi)) < 1e-15
+            y0, u_start = np.array([self.x0[0], self.x0[1], math.cos(phi), 0.0 if seam else math.sin(phi)]), float(u0)
+        else:
+            y0, u_start = start
         while True:
-            n_sw, n_ev, _, _, steps = taylor.extremal(y0, self.kappa, float(u0), duration, 1.0, tol, order,
+            n_sw, n_ev, y, u, steps = taylor.extremal(y0, self.kappa, u_start, duration, 1.0, tol, order,
                                                       self._switches, self._events, self._none, self._no_samples)
             if n_sw <= len(self._switches) and n_ev <= len(self._events):
                 break
             self._switches = np.empty((2 * max(n_sw, len(self._switches)), 5))
             self._events = np.empty((2 * max(n_ev, len(self._events)), 6))
-        self.count += 1
+        self.count += start is None
         self.steps_per_time = steps / duration
-        return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy()
+        return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy(), (y, u)
 
     def sample(self, phi, u0, duration):
-        return _Sample(self, phi, u0, duration)
+        """The _Sample of phi integrated at least for `duration`: the one of an earlier scan (the
+        same grid and midpoints at every horizon), extended if shorter."""
+        sample = self._samples.get((phi, u0))
+        if sample is None:
+            sample = self._samples[phi, u0] = _Sample(self, phi, u0, duration)
+        elif sample.duration < duration:
+            sample.integrate(self, duration)
+        return sample
 
 
 def admissible_intervals(x0, kappa):
@@ -408,7 +432,7 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
     def turning_point(phi):
         nonlocal duration
         while True:
-            _, switches, _, events = family.run(phi, u0, duration, accuracy)
+            _, switches, _, events, _ = family.run(phi, u0, duration, accuracy)
             hit = [e for e in events if (int(e[2]), int(e[3])) == label]
             if hit or duration > 2 * t_guess + 10:
                 return (hit[0] if hit else None), switches
@@ -487,13 +511,14 @@ def _distinct(arrivals):
     return kept
 
 
-def scan(problem, horizon, original=None, clock=None, halves=2):
+def scan(problem, horizon, original=None, clock=None, halves=2, family=None):
     """(arrivals, Coverage) of every extremal reaching the target before horizon * (1 - HORIZON_BAND)
     (`original`: `problem` is `_Backward(original)`, the arrivals are read forwards; `halves` = 1:
-    the first admissible half-circle only; `clock`: a _Clock whose time limit may end the scan)."""
+    the first admissible half-circle only; `clock`: a _Clock whose time limit may end the scan;
+    `family`: the _Family of `problem` of an earlier scan, whose samples are reused)."""
     start = time.perf_counter()
     clock = clock or _Clock(None, None)
-    family = _Family(problem.x0, problem.kappa)
+    family = family or _Family(problem.x0, problem.kappa)
     accept = horizon * (1 - HORIZON_BAND)
     intervals = admissible_intervals(problem.x0, problem.kappa)[:halves]
     brackets, unresolved, singular, finest = [], [], [], math.inf
@@ -628,9 +653,9 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
         rest = problem.x0[1] == 0.0 and problem.branch is None and problem.kappa >= HEADROOM_KAPPA
         guess = HEADROOM * problem.time_estimate if rest else 0.0
         horizon = min(max(GROWTH * scanned.lower_bound, guess), MAX_HORIZON)
-    notes, done = [], None
+    notes, done, family = [], None, _Family(scanned.x0, scanned.kappa)
     while True:
-        arrivals, coverage = scan(scanned, horizon, original, clock, halves)
+        arrivals, coverage = scan(scanned, horizon, original, clock, halves, family)
         if clock.stopped:
             if done is not None:        # the previous scan was complete: only the runner-up's extension was cut
                 return Search(*done, tuple(notes + ["the time limit cut the scan for the runner-up"]))

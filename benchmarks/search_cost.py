@@ -1,0 +1,110 @@
+"""The search's cost against the answer, before and after a change, side by side in one run.
+
+    python benchmarks/search_cost.py [--before REV] [--time-limit S] [--repeats R] [--only WORD]
+
+For each case of CASES (both problems from their standard starts for kappa 0.05 to 10, moving starts
+near the upright, fast starts, a start far out, both readings): `ocp.indirect.search` alone, warm
+(the compiled kernels loaded by a first search), its CPU seconds (the least of `repeats` runs: the
+machine is shared, CPU time is what the search costs), the extremals it integrated, its status,
+T and the switch count. With --before REV the same cases are run, in a subprocess, by the code of
+the git revision REV (exported to a temporary folder), case by case in turn with this code (the
+two sides share the machine's load), and the table shows both and their ratio. A search still
+running at --time-limit seconds (wall) stops there: status "stopped".
+"""
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+#: (kind, kappa, x0, branch): None is the circle
+CASES = ([("swing-up", k, (0.0, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0)]
+         + [("damping", k, (math.pi, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0)]
+         + [("damping", 0.1, (2.5, -0.3), None), ("damping", 0.3, (2.5, -0.3), None), ("swing-up", 0.3, (2.5, -0.3), None),
+            ("swing-up", 1.0, (0.0, 10.0), None), ("swing-up", 1.0, (0.0, 20.0), None), ("swing-up", 1.0, (0.0, 50.0), None),
+            ("damping", 1.0, (0.0, 50.0), None), ("swing-up", 0.5, (1000.0, 0.0), None), ("swing-up", 1.0, (0.0, 0.0), 1),
+            ("damping", 8.0, (1.0, 2.0), 0), ("swing-up", 0.2, (0.0, 0.0), -1)])
+
+
+def measure(cases, repeats, limit):
+    """For each case index read from stdin, a JSON line: CPU seconds (least of `repeats`),
+    extremals, status, T, switches."""
+    from ocp.core.problem import make
+    from ocp.indirect import search
+
+    search(make("swing-up", 1.0))
+    print("ready", flush=True)
+    for line in sys.stdin:
+        kind, kappa, x0, branch = cases[int(line)]
+        problem = make(kind, kappa, x0, branch)
+        best = math.inf
+        for _ in range(repeats):
+            begun = time.process_time()
+            found = search(problem, time_limit=limit)
+            best = min(best, time.process_time() - begun)
+            if found.coverage.stopped:
+                break
+        a = found.best
+        print(json.dumps({"cpu_s": best, "extremals": found.coverage.extremals, "status": found.status,
+                          "T": None if a is None else a.T, "switches": None if a is None else a.n_switches}), flush=True)
+
+
+def worker(tree, args):
+    """A subprocess running `measure` on the code in `tree` (each side compiles its own), once ready."""
+    command = [sys.executable, __file__, "--worker", "--repeats", str(args.repeats), "--time-limit", str(args.time_limit)]
+    if args.only:
+        command += ["--only", args.only]
+    process = subprocess.Popen(command, env=dict(os.environ, PYTHONPATH=str(tree)), stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, text=True)
+    assert process.stdout.readline().strip() == "ready"
+    return process
+
+
+def ask(process, i):
+    process.stdin.write(f"{i}\n")
+    process.stdin.flush()
+    return json.loads(process.stdout.readline())
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--before", metavar="REV", help="also run the code of this git revision")
+    parser.add_argument("--time-limit", type=float, default=60.0)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--only", help="the cases whose description contains this")
+    parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    cases = [c for c in CASES if not args.only or args.only in json.dumps(c)]
+    if args.worker:
+        return measure(cases, args.repeats, args.time_limit)
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
+    with tempfile.TemporaryDirectory() as tree:
+        sides = [worker(ROOT, args)]
+        if args.before:
+            archive = subprocess.run(["git", "archive", args.before, "ocp"], capture_output=True, check=True, cwd=ROOT).stdout
+            subprocess.run(["tar", "-x", "-C", tree], input=archive, check=True)
+            sides.append(worker(tree, args))
+        rows = [[ask(side, i) for side in sides] for i in range(len(cases))]
+        for side in sides:
+            side.stdin.close()
+            side.wait()
+    print(f"commit {commit}{f' against {args.before}' if args.before else ''}: the search alone, warm, CPU s "
+          f"(least of {args.repeats}), time limit {args.time_limit:g} s\n")
+    print("| problem | start | reading | kappa | T | switches | extremals | CPU s | before: extremals | CPU s | status | ratio |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    for (kind, kappa, x0, branch), (r, *b) in zip(cases, rows):
+        T = "-" if r["T"] is None else f"{r['T']:.12g}"
+        then = "| - | - | - | -" if not b else (f"| {b[0]['extremals']} | {b[0]['cpu_s']:.4f} | {b[0]['status']} | "
+                                               f"{b[0]['cpu_s'] / r['cpu_s']:.1f}")
+        print(f"| {kind} | ({x0[0]:.4g}, {x0[1]:.4g}) | {'circle' if branch is None else f'plane {branch}'} | {kappa:g} | "
+              f"{T} ({r['status']}) | {r['switches']} | {r['extremals']} | {r['cpu_s']:.4f} {then} |")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -161,12 +161,15 @@ class Problem:
         """A lower bound of the minimum time: |theta''| <= kappa + 1, so no transfer is faster than
         the double integrator with that bound, T = (-s*v + 2 sqrt(s*a*d + v^2/2)) / a for
         a = kappa + 1, d = theta* - theta0, v = omega0, s = +1 when d > v|v|/(2a) (first
-        accelerating), else -1; on the circle the least over the branches near x0."""
+        accelerating), else -1. T grows with the distance of theta* from the stopping point
+    theta0 + v|v|/(2a) on either side, so on the circle the least is at the branches nearest that
+    point (not those nearest theta0: a fast start stops many turns away)."""
         a = self.kappa + 1
         theta0, omega0 = self.x0
-        k0 = self.nearest_branch(theta0) if self.branch is None else self.branch
+        stop = theta0 + omega0 * abs(omega0) / (2 * a)
+        k0 = self.nearest_branch(stop) if self.branch is None else self.branch
         best = math.inf
-        for k in ([k0] if self.branch is not None else range(k0 - 2, k0 + 3)):
+        for k in ([k0] if self.branch is not None else range(k0 - 1, k0 + 2)):
             d = self.target(k)[0] - theta0
             s = 1.0 if d > omega0 * abs(omega0) / (2 * a) else -1.0
             best = min(best, (-s * omega0 + 2 * math.sqrt(max(0.0, s * a * d + omega0**2 / 2))) / a)

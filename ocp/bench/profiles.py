@@ -6,7 +6,8 @@ and the profile rho_s(tau) = the share of cases with r(p, s) <= tau: rho_s(1) is
 the best, rho_s(tau -> inf) how often it gets there at all. Both costs are relative to the best
 family on the case, so the machine's speed cancels:
 
-    time profile        c = the least total time of a run of s with the optimal structure and
+    time profile        c = the least solver time (`Measurement.solver_time_s`: build and NLP
+                        solves, not the suite's checking) of a run of s with the optimal structure and
                         |T - T_ref| <= eps (any N), one panel per accuracy target eps (default
                         1e-2, 3e-3, 1e-3: the range the direct methods reach at N <= 100; below it
                         only the search remains, and the profile degenerates to it)
@@ -17,7 +18,8 @@ family on the case, so the machine's speed cancels:
                         reference's own accuracy counts as that accuracy
 
 A cost of zero (a time below the clock's resolution) counts as the least positive one, so that no
-ratio divides by zero.
+ratio divides by zero. Every case is counted: one that no family gets through is a ratio of inf
+for every family (it caps every curve below 1; `unreached` counts them).
 """
 
 import math
@@ -46,30 +48,34 @@ def profile_costs(records, accuracies=ACCURACIES, budgets=BUDGETS):
     for r in records:
         if r.outcome in GOOD and r.T_minus_ref is not None:
             good[(r.family, r.case)].append(r)
-    fastest = {c: min((r.total_time_s for f in families for r in good[(f, c)]), default=math.inf) for c in cases}
+    fastest = {c: min((r.solver_time_s for f in families for r in good[(f, c)]), default=math.inf) for c in cases}
     costs = {}
     for eps in accuracies:
-        costs[("time", eps)] = {f: {c: min((r.total_time_s for r in good[(f, c)] if error(r) <= eps),
+        costs[("time", eps)] = {f: {c: min((r.solver_time_s for r in good[(f, c)] if error(r) <= eps),
                                            default=math.inf) for c in cases} for f in families}
     for beta in budgets:
         costs[("error", beta)] = {f: {c: min((error(r) for r in good[(f, c)]
-                                              if r.total_time_s <= beta * fastest[c]), default=math.inf)
+                                              if r.solver_time_s <= beta * fastest[c]), default=math.inf)
                                       for c in cases} for f in families}
     return costs
 
 
 def performance_profile(costs):
-    """{family: sorted ratios cost / best cost over the cases} (Dolan and More 2002) of one cost
-    table {family: {case: cost}}; inf where the family failed. Cases no family gets through are
-    left out (they rank nobody)."""
+    """{family: sorted ratios cost / best cost over every case} (Dolan and More 2002) of one cost
+    table {family: {case: cost}}; inf where the family failed, and for every family on a case no
+    family gets through."""
     families = list(costs)
     cases = list(next(iter(costs.values()))) if costs else []
     ratios = {f: [] for f in families}
     for case in cases:
         best = min(costs[f][case] for f in families)
-        if not math.isfinite(best):
-            continue
         for f in families:
             c = costs[f][case]
             ratios[f].append(max(c, TINY) / max(best, TINY) if math.isfinite(c) else math.inf)
     return {f: sorted(r) for f, r in ratios.items()}
+
+
+def unreached(costs):
+    """The number of cases of one cost table {family: {case: cost}} that no family gets through."""
+    cases = list(next(iter(costs.values()))) if costs else []
+    return sum(not any(math.isfinite(costs[f][c]) for f in costs) for c in cases)

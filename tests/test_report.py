@@ -47,6 +47,13 @@ def test_a_case_nobody_solves_is_counted_as_such():
     assert profiles.unreached(costs) == 1
 
 
+def test_a_family_is_profiled_over_the_cases_it_ran():
+    """A designed suite (groups): "wide" ran case a only; it is ranked on a against the best there."""
+    costs = {"core": {"a": 2.0, "b": 1.0}, "wide": {"a": 1.0}}
+    assert profiles.performance_profile(costs) == {"core": [1.0, 2.0], "wide": [1.0]}
+    assert profiles.unreached({"core": {"a": math.inf, "b": 1.0}, "wide": {"a": math.inf}}) == 1
+
+
 def test_the_accuracy_profile_uses_a_budget_relative_to_the_fastest_answer():
     """Budget 2 x the fastest direct answer (0.1 s on both cases): within 0.2 s, case a: fast 1e-3,
     slow none; case b: fast 6e-3, slow 5e-3."""
@@ -78,7 +85,7 @@ def test_labels_never_overprint_each_other_or_a_point():
     boxes = []
     for i, ((dx, dy), ha) in placed.items():
         x, y, text = candidates[i]
-        w = 0.6 * 6 * len(text)
+        w = 0.65 * 6 * len(text) + 1
         x0 = x + dx if ha == "left" else x + dx - w
         boxes.append((x0, y + dy, x0 + w, y + dy + 6))
     assert 3 in placed and len(placed) >= 3

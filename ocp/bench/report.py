@@ -222,11 +222,11 @@ def _span(values, factor):
 def place_labels(candidates, obstacles, size, offsets=((4, 3), (4, -9), (-4, 3), (-4, -9), (4, 10), (4, -16))):
     """Where to print the labels of `candidates` [(x, y, text)] (display points) so that no two
     overlap and none covers a point of `obstacles` [(x, y)]: {index: ((dx, dy), ha)} of those that
-    fit, first come first served; `size` the font size in points (a character about 0.6 of it wide)."""
+    fit, first come first served; `size` the font size in points (a character at most 0.65 of it wide)."""
     taken = [(x - 3, y - 3, x + 3, y + 3) for x, y in obstacles]
     placed = {}
     for i, (x, y, text) in enumerate(candidates):
-        w, h = 0.6 * size * len(text), size
+        w, h = 0.65 * size * len(text) + 1, size
         for dx, dy in offsets:
             x0 = x + dx if dx >= 0 else x + dx - w
             box = (x0, y + dy, x0 + w, y + dy + h)
@@ -235,6 +235,16 @@ def place_labels(candidates, obstacles, size, offsets=((4, 3), (4, -9), (-4, 3),
                 placed[i] = ((dx, dy), "left" if dx >= 0 else "right")
                 break
     return placed
+
+
+def _plain_ticks(axis, lo, hi):
+    """Tick labels of a log axis as plain numbers (2, 0.5, 100): the minor ticks too where the axis
+    spans less than a decade, else those at 2 and 5."""
+    from matplotlib.ticker import FuncFormatter
+
+    axis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
+    short = hi <= 10 * lo                                     # under a decade: every minor tick named, else 2 and 5
+    axis.set_minor_formatter(FuncFormatter(lambda x, _: f"{x:g}" if short or f"{x:e}"[0] in "25" else ""))
 
 
 def work_precision(records, out_dir, formats):
@@ -292,6 +302,7 @@ def work_precision(records, out_dir, formats):
                 if family not in drawn:
                     notes.append(f"no answer, {printable(family)[:LABEL]}: "
                                  + ", ".join(f"{k} {n}" for k, n in d["outcomes"].items()))
+            _plain_ticks(ax.xaxis, *ax.get_xlim())
             ax.set_xlabel("solver time per solve (build and NLP solves), median of repeats, cold (s)")
             ax.set_ylabel("|T - T*|   (T*: the complete search's optimum)")
             ax.set_title(f"work precision: {printable(case)[:LABEL]}")
@@ -335,7 +346,6 @@ def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
     import textwrap
 
     import matplotlib.pyplot as plt
-    from matplotlib.ticker import FuncFormatter
 
     styles = styles or family_style({f for _, ratios, _ in panels for f in ratios})
     never = defaultdict(list)
@@ -351,7 +361,8 @@ def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
             for families, r in merged_curves(ratios, styles):
                 taus = [1.0] + sorted({x for x in r if math.isfinite(x)}) + [top]
                 rho = [sum(x <= tau for x in r) / len(r) for tau in taus]
-                label = "\n  = ".join(printable(f)[:LABEL] for f in families)
+                label = "\n  = ".join(printable(f)[:LABEL] for f in families) + (
+                    f"  ({len(r)} cases)" if len(r) < n_cases else "")
                 ax.step(taus, rho, where="post", color=styles[families[0]][0], label=label)
             if none and n_cases:
                 ceiling = 1 - none / n_cases
@@ -360,10 +371,7 @@ def profile_chart(panels, title, xlabel, out_stem, formats, styles=None):
                         color="0.3", transform=ax.get_yaxis_transform())          # above it no curve can rise
             ax.set_xscale("log")
             ax.set_xlim(1.0, top)
-            plain = FuncFormatter(lambda x, _: f"{x:g}")
-            ax.xaxis.set_major_formatter(plain)
-            if top <= 10:                                       # less than a decade: the minor ticks named
-                ax.xaxis.set_minor_formatter(plain)
+            _plain_ticks(ax.xaxis, 1.0, top)
             ax.set_ylim(-0.02, 1.02)
             ax.set_title(f"{subtitle}  ({n_cases} cases)", fontsize=9)
             ax.set_xlabel(xlabel)

@@ -10,6 +10,11 @@ Parts (all by default, in this order):
                    ocp report benchmarks/results/quick.sqlite --out benchmarks/results/quick
                    -> the method and failure tables, the charts and the environment in
                       benchmarks/README.md; benchmarks/results/quick/ (charts, summary.md, results.csv)
+    standard       ocp bench standard --jobs 2 --store benchmarks/results/standard.sqlite   (fresh)
+                   ocp report benchmarks/results/standard.sqlite --out benchmarks/results/standard
+                   -> the standard suite's run (its measured duration and the sum of its rows'
+                      solver and total times), outcome counts, method and failure tables, charts
+                      and environment in benchmarks/README.md; benchmarks/results/standard/
     figures        ocp figures --out docs/figures --format png --only (the six paper figures, two maps)
                    -> the gallery of README.md
     failure-maps   ocp failure-map swing-up --kappa 1 --grid 21 15 --jobs 2 for IPOPT, fatrop and
@@ -61,7 +66,7 @@ FAILURE_MAPS = "benchmarks/results/failure-maps"
 #: the methods whose failure maps are published: (solver, configuration)
 MAPPED = (("ipopt", "default"), ("fatrop", "default"), ("sqpmethod", "fair"))
 BIFURCATION_DATA = "ocp/synthesis/data/bifurcation.jsonl"
-PARTS = ("direct-error", "bench", "figures", "failure-maps", "speed", "bifurcation", "timings")
+PARTS = ("direct-error", "bench", "standard", "figures", "failure-maps", "speed", "bifurcation", "timings")
 #: the code the current part's commands ran: file -> code hash (benchmarks/measured.py)
 RAN = {}
 
@@ -128,36 +133,65 @@ def direct_error(commit, jobs):
     return record
 
 
-def bench(commit, jobs):
+def run_suite(name, prefix, commit, jobs):
+    """`ocp bench NAME` into a fresh store benchmarks/results/NAME.sqlite and `ocp report` into
+    benchmarks/results/NAME/; the blocks PREFIX-run, -outcomes, -methods, -failures, -charts and
+    -environment of benchmarks/README.md. Returns (record, tables)."""
     from ocp.bench import report
+    from ocp.bench.store import Store
 
-    store = ROOT / STORE
-    store.unlink(missing_ok=True)                     # a fresh store: nothing resumed from older code
-    shutil.rmtree(ROOT / REPORT, ignore_errors=True)  # no chart left from an older run
-    shown_bench = f"ocp bench quick --jobs {jobs} --store {STORE}"
-    bench_s, _ = run(ocp_command("bench", "quick", "--jobs", str(jobs), "--store", STORE), shown_bench)
-    shown_report = f"ocp report {STORE} --out {REPORT}"
-    report_s, out = run(ocp_command("report", STORE, "--out", REPORT, "--json"), shown_report)
+    store_name, out_name = f"benchmarks/results/{name}.sqlite", f"benchmarks/results/{name}"
+    store = ROOT / store_name
+    store.unlink(missing_ok=True)                       # a fresh store: nothing resumed from older code
+    shutil.rmtree(ROOT / out_name, ignore_errors=True)  # no chart left from an older run
+    shown_bench = f"ocp bench {name} --jobs {jobs} --store {store_name}"
+    bench_s, _ = run(ocp_command("bench", name, "--jobs", str(jobs), "--store", store_name), shown_bench)
+    shown_report = f"ocp report {store_name} --out {out_name}"
+    report_s, out = run(ocp_command("report", store_name, "--out", out_name, "--json"), shown_report)
     tables = json.loads(out)
     env = tables["sessions"][-1]["environment"]
+    opened = Store(store, write=False)
+    try:
+        rows = opened.results()
+    finally:
+        opened.close()
+    solver_s, total_s, cpu_s = (sum((getattr(r, f) or 0.0) * (r.repeats or 1) for r in rows)
+                                for f in ("solver_time_s", "total_time_s", "cpu_time_s"))
     record = {"commit": commit, "command": f"{shown_bench} && {shown_report}", "seconds": bench_s,
-              "report_seconds": report_s, "runs": tables["runs"], "environment": env}
+              "report_seconds": report_s, "runs": tables["runs"], "solver_seconds": solver_s,
+              "total_seconds": total_s, "cpu_seconds": cpu_s, "environment": env}
     readme = ROOT / "benchmarks" / "README.md"
-    replace_block(readme, "bench-run", f"""
+    load = ", ".join(f"{x:.1f}" for x in env["load_average"])
+    replace_block(readme, f"{prefix}-run", f"""
     {shown_bench}
     {shown_report}
 
-{tables['runs']} runs in {bench_s:.0f} s wall clock (the whole `ocp bench` command, references included), the report
-in {report_s:.0f} s. Timing: {'; '.join(tables['timing'])}. Outcomes: {', '.join(f'{k} {v}' for k, v in
-tables['outcomes'].items())}.
+{tables['runs']} runs in {_duration(bench_s)} wall clock on {jobs} workers (the whole `ocp bench` command,
+references included; load average {load} as it began, other work included), the report in
+{report_s:.0f} s. Summed over the rows (every repeat): solver time (build and NLP solves)
+{_duration(solver_s)}, total time (with the suite's checking) {_duration(total_s)}, CPU time
+{_duration(cpu_s)}. Timing:
+{'; '.join(tables['timing'])}. Outcomes: {', '.join(f'{k} {v}' for k, v in tables['outcomes'].items())}.
 
 {stamp(record)}""")
-    replace_block(readme, "suites", suites_table(tables["runs"], bench_s))
-    replace_block(readme, "bench-methods", report.markdown(tables["methods"]))
-    replace_block(readme, "bench-failures", report.markdown(tables["failures"]))
+    replace_block(readme, f"{prefix}-methods", report.markdown(tables["methods"]))
+    replace_block(readme, f"{prefix}-failures", report.markdown(tables["failures"]))
     charts = sorted(Path(p).name for p in tables["files"] if p.endswith(".png"))
-    replace_block(readme, "bench-charts", "\n\n".join(f"![{name[:-4]}](results/quick/{name})" for name in charts))
-    replace_block(readme, "bench-environment", "```\n" + "\n".join(f"{k}: {v}" for k, v in env.items()) + "\n```")
+    replace_block(readme, f"{prefix}-charts", "\n\n".join(f"![{c[:-4]}](results/{name}/{c})" for c in charts))
+    replace_block(readme, f"{prefix}-environment", "```\n" + "\n".join(f"{k}: {v}" for k, v in env.items()) + "\n```")
+    return record, tables
+
+
+def bench(commit, jobs):
+    record, tables = run_suite("quick", "bench", commit, jobs)
+    replace_block(ROOT / "benchmarks" / "README.md", "suites", suites_table(tables["runs"], record["seconds"]))
+    return record
+
+
+def standard(commit, jobs):
+    record, tables = run_suite("standard", "standard", commit, jobs)
+    counts = ["| outcome | runs |", "| --- | --- |"] + [f"| {k} | {n} |" for k, n in tables["outcomes"].items()]
+    replace_block(ROOT / "benchmarks" / "README.md", "standard-outcomes", "\n".join(counts))
     return record
 
 
@@ -247,11 +281,12 @@ def timings(commit, records, time_tests, previous):
                   "\n".join(["    $ ocp solve swing-up --kappa 0.75"] + [f"    {line}" for line in example]))
     totals = outputs["ocp verify"].rstrip().splitlines()[-1]
     replace_block(ROOT / "README.md", "verify-totals", f"    {totals}\n\n(`ocp verify` at commit {commit[:12]})")
-    for part in ("figures", "bench", "direct-error", "failure-maps", "speed", "bifurcation"):
+    for part in ("figures", "bench", "standard", "direct-error", "failure-maps", "speed", "bifurcation"):
         r = records.get(part) or previous.get(part)
         if r:
-            rows.append((r["command"].split(" && ")[0] if part == "bench" else r["command"], r["seconds"], r["commit"]))
-            if part == "bench":
+            suite = part in ("bench", "standard")
+            rows.append((r["command"].split(" && ")[0] if suite else r["command"], r["seconds"], r["commit"]))
+            if suite:
                 rows.append((r["command"].split(" && ")[1], r["report_seconds"], r["commit"]))
     tests = previous.get("timings", {}).get("tests")
     if time_tests:
@@ -297,6 +332,8 @@ def main():
             records[part] = direct_error(commit, args.jobs)
         elif part == "bench":
             records[part] = bench(commit, args.jobs)
+        elif part == "standard":
+            records[part] = standard(commit, args.jobs)
         elif part == "figures":
             records[part] = figures(commit)
         elif part == "failure-maps":

@@ -69,3 +69,29 @@ def test_bad_input_is_one_line_and_exit_2(argv, words, tmp_path, capsys):
     err = capsys.readouterr().err
     assert words in err and err.count("\n") == 1 and "Traceback" not in err, err
     assert not any(tmp_path.iterdir())
+
+
+def test_one_colour_per_meaning_and_the_seam_drawn_once():
+    """Issue 21: every outcome has a colour of its own, shared with no switch count of the map under
+    it; ok and inaccurate differ in colour and marker; a window spanning 2 pi draws theta = pi (the
+    same start as -pi) once, and its legend counts each start once."""
+    import math
+
+    import matplotlib.pyplot as plt
+
+    from ocp.bench.outcomes import Outcome
+    from ocp.figures import failure_map as figure
+    from ocp.figures.synthesis import COUNT_COLOURS
+
+    colours = [o.colour.lower() for o in Outcome]
+    assert len(set(colours)) == len(colours) and not set(colours) & {c.lower() for c in COUNT_COLOURS + ["#08306b"]}
+    assert Outcome.OK.colour != Outcome.INACCURATE.colour and Outcome.OK.marker != Outcome.INACCURATE.marker
+    theta = np.linspace(-math.pi, math.pi, 5)
+    assert figure._once(theta) == 4 and figure._once(theta[:-1]) == 4
+    outcome = np.array([[0, 0], [3, 3], [0, 3], [3, 0], [0, 0]])          # the last column repeats the first
+    fig, ax = plt.subplots()
+    x, y = np.meshgrid(theta[:4], [0.0, 1.0], indexing="ij")
+    handles, labels = figure._cells(ax, outcome[:figure._once(theta)], x, y)
+    plt.close(fig)
+    assert labels == [f"{failure_map.OUTCOMES[0]} (4)", f"{failure_map.OUTCOMES[3]} (4)"]
+    assert [h.get_marker() for h in handles] == [failure_map.OUTCOMES[0].marker, failure_map.OUTCOMES[3].marker]

@@ -18,6 +18,8 @@ MANIFEST = ROOT / "benchmarks" / "results" / "published.json"
 BLOCKS = {
     "direct-error": [("benchmarks/README.md", "direct-error")],
     "bench": [("benchmarks/README.md", "bench-run"), ("benchmarks/README.md", "bench-environment")],
+    "standard": [("benchmarks/README.md", "standard-run"), ("benchmarks/README.md", "standard-outcomes"),
+                 ("benchmarks/README.md", "standard-environment")],
     "figures": [("README.md", "figures")],
     "failure-maps": [("benchmarks/README.md", "failure-maps")],
     "speed": [("README.md", "search-speed"), ("README.md", "search-cost"), ("README.md", "synthesis-speed")],
@@ -50,10 +52,11 @@ def test_every_part_is_published(manifest):
 
 
 def test_the_published_files_exist(manifest):
-    charts = re.findall(r"\]\((results/quick/[^)]+)\)", block("benchmarks/README.md", "bench-charts"))
-    assert charts and all((ROOT / "benchmarks" / c).is_file() for c in charts)
-    for name in ("summary.md", "results.csv"):
-        assert (ROOT / "benchmarks/results/quick" / name).is_file()
+    for suite, prefix in (("quick", "bench"), ("standard", "standard")):
+        charts = re.findall(rf"\]\((results/{suite}/[^)]+)\)", block("benchmarks/README.md", f"{prefix}-charts"))
+        assert charts and all((ROOT / "benchmarks" / c).is_file() for c in charts)
+        for name in ("summary.md", "results.csv"):
+            assert (ROOT / "benchmarks/results" / suite / name).is_file()
     figures = re.findall(r"--only ([\w.-]+)", block("README.md", "figures"))
     assert len(figures) == 8 and all((ROOT / "docs/figures" / f"{f}.png").is_file() for f in figures)
 

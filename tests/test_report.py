@@ -1,7 +1,9 @@
 """The charts' data and tables of `ocp.bench.report` on synthetic records whose answers are known by
-construction: Dolan-More ratios relative to the best family per case, profiles that do not change
-when the machine is faster, one colour per family in every chart, local optima labelled as such,
-and the reached-optimum rate that does not judge a method stating no accuracy."""
+construction: Dolan-More ratios relative to the best family per case, every case counted, profiles
+on the solver's time that do not change when the machine is faster or the checking slower, one
+colour per family in every chart, identical curves merged, labels that do not overprint, local
+optima labelled as such, and the reached-optimum rate that does not judge a method stating no
+accuracy."""
 
 import math
 from dataclasses import replace
@@ -14,7 +16,8 @@ from ocp.bench.row import Row, from_dict
 
 def run(case, family, N, time, error, outcome="ok", T_error=1e-3):
     return from_dict(Row, {"case": case, "case_label": case, "problem": case, "family": family, "N": N,
-                           "guess": "default", "outcome": outcome, "total_time_s": time, "T_minus_ref": error,
+                           "guess": "default", "outcome": outcome, "build_time_s": 0.0, "solve_time_s": time,
+                           "total_time_s": time + 5.0, "T_minus_ref": error,
                            "T_ref_error": 1e-14, "T": 4.0 + error, "T_ref": 4.0, "T_error": T_error,
                            "success": outcome in ("ok", "inaccurate"), "status": "verified",
                            "label": f"{family} N={N}", "timing": {"note": "timed alone"}})
@@ -38,25 +41,65 @@ def test_ratios_are_relative_to_the_best_family_on_each_case():
     assert ratios == {"fast": [1.0, math.inf], "slow": [1.0, 4.0]}
 
 
-def test_a_case_nobody_solves_ranks_nobody():
-    ratios = profiles.performance_profile({"x": {"a": 1.0, "b": math.inf}, "y": {"a": 2.0, "b": math.inf}})
-    assert ratios == {"x": [1.0], "y": [2.0]}
+def test_a_case_nobody_solves_is_counted_as_such():
+    costs = {"x": {"a": 1.0, "b": math.inf}, "y": {"a": 2.0, "b": math.inf}}
+    assert profiles.performance_profile(costs) == {"x": [1.0, math.inf], "y": [2.0, math.inf]}
+    assert profiles.unreached(costs) == 1
+
+
+def test_a_family_is_profiled_over_the_cases_it_ran():
+    """A designed suite (groups): "wide" ran case a only; it is ranked on a against the best there."""
+    costs = {"core": {"a": 2.0, "b": 1.0}, "wide": {"a": 1.0}}
+    assert profiles.performance_profile(costs) == {"core": [1.0, 2.0], "wide": [1.0]}
+    assert profiles.unreached({"core": {"a": math.inf, "b": 1.0}, "wide": {"a": math.inf}}) == 1
 
 
 def test_the_accuracy_profile_uses_a_budget_relative_to_the_fastest_answer():
     """Budget 2 x the fastest direct answer (0.1 s on both cases): within 0.2 s, case a: fast 1e-3,
     slow none; case b: fast 6e-3, slow 5e-3."""
     data = report.profiles(RECORDS, accuracies=(), budgets=(2.0,))
-    (beta, ratios), = data["error"]
-    assert beta == 2.0
+    (beta, ratios, unreached), = data["error"]
+    assert beta == 2.0 and unreached == 0
     assert ratios["fast"] == [1.0, pytest.approx(6e-3 / 5e-3)] and ratios["slow"] == [1.0, math.inf]
     assert "extremal search" not in ratios                 # the reference, not a competitor
 
 
-def test_the_profiles_do_not_depend_on_the_machines_speed():
-    faster = [replace(r, total_time_s=r.total_time_s / 7.3) for r in RECORDS]
+def test_the_profiles_do_not_depend_on_the_machines_speed_nor_on_the_checking():
+    faster = [replace(r, solve_time_s=r.solve_time_s / 7.3) for r in RECORDS]
+    checked_slowly = [replace(r, total_time_s=r.total_time_s * (1 + 10 * i)) for i, r in enumerate(RECORDS)]
     for kind in ("time", "error"):
         assert report.profiles(faster)[kind] == report.profiles(RECORDS)[kind]
+        assert report.profiles(checked_slowly)[kind] == report.profiles(RECORDS)[kind]
+
+
+def test_identical_curves_are_drawn_once_and_named_together():
+    styles = report.family_style({"a", "b", "c", "d"})
+    curves = report.merged_curves({"a": [1.0, 2.0], "b": [1.0, 3.0], "c": [1.0, 2.0], "d": [math.inf]}, styles)
+    assert curves == [(["a", "c"], [1.0, 2.0]), (["b"], [1.0, 3.0])]       # d never gets there: not a curve
+
+
+def test_labels_never_overprint_each_other_or_a_point():
+    """Three points 2 pt apart: the labels go to different offsets, none overlapping another or a point."""
+    candidates = [(100.0, 100.0, "N=25"), (100.0, 102.0, "N=50"), (101.0, 101.0, "N=100"), (300.0, 300.0, "x")]
+    placed = report.place_labels(candidates, [(x, y) for x, y, _ in candidates], 6)
+    boxes = []
+    for i, ((dx, dy), ha) in placed.items():
+        x, y, text = candidates[i]
+        w = 0.65 * 6 * len(text) + 1
+        x0 = x + dx if ha == "left" else x + dx - w
+        boxes.append((x0, y + dy, x0 + w, y + dy + 6))
+    assert 3 in placed and len(placed) >= 3
+    overlap = lambda a, b: a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+    assert not any(overlap(a, b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    assert not any(overlap(b, (x - 3, y - 3, x + 3, y + 3)) for b in boxes for x, y, _ in candidates)
+
+
+def test_a_work_precision_chart_with_a_method_that_never_answers(tmp_path):
+    records = RECORDS + [run("a", "broken", 25, 0.1, 0.0, outcome="solver error")]
+    points = report.work_precision_points(records)
+    assert points["a"]["broken"] == {"curve": [], "another": [], "failed": 1, "outcomes": {"solver error": 1}}
+    paths = report.work_precision(records, tmp_path, ("png",))
+    assert sorted(p.name for p in paths) == ["work_precision_a.png", "work_precision_b.png"]
 
 
 def test_one_colour_per_family_whatever_else_is_in_the_store():

@@ -11,8 +11,9 @@ from pathlib import Path
 import pytest
 
 from ocp import cli
-from ocp.bench import runner, suite
+from ocp.bench import configurations, runner, suite
 from ocp.bench.command import CONFIRM_RUNS
+from ocp.direct.shooting import INTEGRATORS
 
 GOOD = """name = "ok"
 repeats = 1
@@ -184,3 +185,39 @@ def test_cases_named_by_instance_or_tag_of_the_reference_set(tmp_path):
         path.write_text(f'name = "set"\n[[cases]]\n{bad}\n[[methods]]\ntranscription = "multiple-shooting"\n')
         with pytest.raises(suite.InputError, match=says):
             suite.load(path)
+
+
+def test_groups_pair_cases_with_methods_only_where_they_share_one(tmp_path):
+    """Tables naming a group meet only tables sharing it; a table without one meets every table; a
+    case in two tables takes both; a bad group is one line; the shipped standard suite is designed,
+    not a product (issue 21)."""
+    path = tmp_path / "groups.toml"
+    path.write_text('name = "g"\n[[cases]]\nkind = "swing-up"\nkappa = [1.0, 0.9]\ngroup = "core"\n'
+                    '[[cases]]\nkind = "damping"\nkappa = 1.0\ngroup = ["core", "wide"]\n'
+                    '[[cases]]\nkind = "swing-up"\nkappa = 0.9\ngroup = "wide"\n'
+                    '[[methods]]\nN = 20\ngroup = "core"\n[[methods]]\nN = [30, 40]\ngroup = "wide"\n'
+                    '[[methods]]\ntranscription = "extremal-search"\n')
+    s = suite.load(path)
+    pairs = {(c.kind, c.kappa, m.N) for c, m in s.pairs()}
+    assert len(s.cases) == 3 and len(s.methods) == 4 and s.size == len(s.pairs()) == len(pairs) == 10
+    assert ("swing-up", 1.0, 30) not in pairs and ("swing-up", 1.0, 20) in pairs and ("swing-up", 1.0, None) in pairs
+    assert {("swing-up", 0.9, n) for n in (20, 30, 40, None)} <= pairs     # in "core" and "wide": every method
+    for bad, says in (('group = 3', "group = 3"), ('group = ["a b"]', "is not a group")):
+        path.write_text(f'name = "g"\n[[cases]]\nkind = "swing-up"\nkappa = 1.0\n{bad}\n[[methods]]\nN = 20\n')
+        with pytest.raises(suite.InputError, match=says):
+            suite.load(path)
+    path.write_text('name = "g"\n[[cases]]\nkind = "swing-up"\nkappa = 1.0\ngroup = "a"\n[[methods]]\nN = 20\n'
+                    'group = "b"\n')
+    with pytest.raises(suite.InputError, match="no case shares a group"):
+        suite.load(path)
+    standard = suite.load("standard")
+    problems = {c.problem_key for c in standard.cases}
+    assert len(problems) >= 40 and len(standard.pairs()) < len(standard.cases) * len(standard.methods)
+    assert {c.kind for c in standard.cases} == {"swing-up", "damping"} and {c.branch is None for c in standard.cases} \
+        == {True, False}
+    assert set(suite.KINDS_OF_METHOD) == {m.transcription for m in standard.methods}
+    assert {dict(m.settings).get("integrator", "rk4") for m in standard.methods
+            if m.transcription == "multiple-shooting"} == set(INTEGRATORS)
+    assert set(configurations.FAIR) <= {m.solver for m in standard.methods if m.configuration == "fair"}
+    assert {m.configuration for m in standard.methods} == {"default", "fair"}
+    assert min(m.N for m in standard.methods if m.N) == 25 and max(m.N for m in standard.methods if m.N) == 400

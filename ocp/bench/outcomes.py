@@ -9,7 +9,9 @@ Each member is its label (a str: it is stored, counted and printed as such) and 
     success     whether it counts as reaching the optimum
     structure   "optimal" (the optimal extremal's structure and branch, accurate or not),
                 "another" (a converged answer on another extremal), or "" (no answer to place)
-    colour, marker         its style in the failure maps (`ocp.figures.failure_map`)
+    colour, marker         its style in the failure maps (`ocp.figures.failure_map`): a colour of
+                           its own, shared with no other outcome and no switch count of the map
+                           under it (`ocp.figures.synthesis.COUNT_COLOURS`)
     open_marker            its open marker in the work-precision charts ("another" only)
 
 The order of the members is the index order of saved failure maps (`failure_map.save`): append,
@@ -31,17 +33,17 @@ class Outcome(enum.StrEnum):
 
     #                label              rank success structure colour    marker open
     OK = "ok", 7, True, "optimal", "#2ca02c", "o"
-    BUILD_ERROR = "build error", 0, False, "", "#7f7f7f", "+"
-    TIME_LIMIT = "time limit", 1, False, "", "#bcbd22", "+"
-    INACCURATE = "inaccurate", 8, False, "optimal", "#98df8a", "o"
-    LOCAL_OPTIMUM = "local optimum", 9, False, "another", "#ff7f0e", "s", "o"
-    WRONG_STRUCTURE = "wrong structure", 11, False, "another", "#d62728", "D", "s"
-    BEYOND_HORIZON = "beyond horizon", 10, False, "another", "#8c564b", "D", "^"
-    CHATTERING = "chattering", 6, False, "", "#e377c2", "P"
-    MISSES_TARGET = "misses target", 5, False, "", "#9467bd", "X"
-    NOT_CONVERGED = "not converged", 4, False, "", "#000000", "x"
-    SOLVER_ERROR = "solver error", 3, False, "", "#7f7f7f", "x"
-    NO_REFERENCE = "no reference", 2, False, "", "#17becf", "v"
+    BUILD_ERROR = "build error", 0, False, "", "#969696", "+"
+    TIME_LIMIT = "time limit", 1, False, "", "#ffd92f", "+"
+    INACCURATE = "inaccurate", 8, False, "optimal", "#01665e", "d"
+    LOCAL_OPTIMUM = "local optimum", 9, False, "another", "#d62728", "s", "o"
+    WRONG_STRUCTURE = "wrong structure", 11, False, "another", "#e7298a", "D", "s"
+    BEYOND_HORIZON = "beyond horizon", 10, False, "another", "#8c564b", "^", "^"
+    CHATTERING = "chattering", 6, False, "", "#f781bf", "P"
+    MISSES_TARGET = "misses target", 5, False, "", "#17becf", "X"
+    NOT_CONVERGED = "not converged", 4, False, "", "#525252", "x"
+    SOLVER_ERROR = "solver error", 3, False, "", "#bcbd22", "x"
+    NO_REFERENCE = "no reference", 2, False, "", "#a50026", "v"
 
 
 #: the labels, in index order (failure maps store indices into this)

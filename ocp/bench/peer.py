@@ -1,4 +1,4 @@
-"""The peer: rockit (`pip install rockit-meco`, the `peer` extra), solving the same cases with its own
+"""The peer: rockit (rockit-meco, a dependency of ocp), solving the same cases with its own
 multiple shooting (`rockit.MultipleShooting(N, M, intg="rk")`, free final time), on a uniform grid
 or on rockit's FreeGrid (every interval's length a variable), from the same initial guesses,
 verified by ocp's independent re-simulation on the grid rockit solved, read by ocp's structure
@@ -20,7 +20,7 @@ from ..direct import solvers
 from ..direct.solve import best_of, verified
 from .suite import PEER_FREE_GRID
 
-MISSING = "rockit is not installed (pip install 'ocp[peer]', i.e. rockit-meco): its runs are skipped"
+MISSING = "rockit is not installed (pip install rockit-meco, a dependency of ocp): its runs are skipped"
 
 
 def available():

@@ -6,7 +6,8 @@ and the profile rho_s(tau) = the share of cases with r(p, s) <= tau: rho_s(1) is
 the best, rho_s(tau -> inf) how often it gets there at all. Both costs are relative to the best
 family on the case, so the machine's speed cancels:
 
-    time profile        c = the least total time of a run of s with the optimal structure and
+    time profile        c = the least solver time (`Measurement.solver_time_s`: build and NLP
+                        solves, not the suite's checking) of a run of s with the optimal structure and
                         |T - T_ref| <= eps (any N), one panel per accuracy target eps (default
                         1e-2, 3e-3, 1e-3: the range the direct methods reach at N <= 100; below it
                         only the search remains, and the profile degenerates to it)
@@ -17,7 +18,10 @@ family on the case, so the machine's speed cancels:
                         reference's own accuracy counts as that accuracy
 
 A cost of zero (a time below the clock's resolution) counts as the least positive one, so that no
-ratio divides by zero.
+ratio divides by zero. Every case is counted: one that no family gets through is a ratio of inf
+for every family (it caps every curve below 1; `unreached` counts them). A suite that is not a full
+product (`ocp.bench.suite`, groups) profiles each family over the cases it ran, against the best of
+the families that ran each case.
 """
 
 import math
@@ -39,37 +43,47 @@ def error(r):
 
 def profile_costs(records, accuracies=ACCURACIES, budgets=BUDGETS):
     """The costs of the two profiles (module doc): {("time", eps): {family: {case: cost}}} and
-    {("error", beta): {family: {case: cost}}}, inf where a family does not get there."""
+    {("error", beta): {family: {case: cost}}} over the cases each family ran, inf where it does
+    not get there."""
     cases = list(dict.fromkeys(r.case for r in records))
     families = list(dict.fromkeys(r.family for r in records))
+    ran = defaultdict(set)
+    for r in records:
+        ran[r.family].add(r.case)
     good = defaultdict(list)
     for r in records:
         if r.outcome in GOOD and r.T_minus_ref is not None:
             good[(r.family, r.case)].append(r)
-    fastest = {c: min((r.total_time_s for f in families for r in good[(f, c)]), default=math.inf) for c in cases}
+    fastest = {c: min((r.solver_time_s for f in families for r in good[(f, c)]), default=math.inf) for c in cases}
     costs = {}
     for eps in accuracies:
-        costs[("time", eps)] = {f: {c: min((r.total_time_s for r in good[(f, c)] if error(r) <= eps),
-                                           default=math.inf) for c in cases} for f in families}
+        costs[("time", eps)] = {f: {c: min((r.solver_time_s for r in good[(f, c)] if error(r) <= eps),
+                                           default=math.inf) for c in cases if c in ran[f]} for f in families}
     for beta in budgets:
         costs[("error", beta)] = {f: {c: min((error(r) for r in good[(f, c)]
-                                              if r.total_time_s <= beta * fastest[c]), default=math.inf)
-                                      for c in cases} for f in families}
+                                              if r.solver_time_s <= beta * fastest[c]), default=math.inf)
+                                      for c in cases if c in ran[f]} for f in families}
     return costs
 
 
+def _cases(costs):
+    return list(dict.fromkeys(c for by_case in costs.values() for c in by_case))
+
+
 def performance_profile(costs):
-    """{family: sorted ratios cost / best cost over the cases} (Dolan and More 2002) of one cost
-    table {family: {case: cost}}; inf where the family failed. Cases no family gets through are
-    left out (they rank nobody)."""
-    families = list(costs)
-    cases = list(next(iter(costs.values()))) if costs else []
-    ratios = {f: [] for f in families}
-    for case in cases:
-        best = min(costs[f][case] for f in families)
-        if not math.isfinite(best):
-            continue
-        for f in families:
+    """{family: sorted ratios cost / best cost over the cases it ran} (Dolan and More 2002) of one
+    cost table {family: {case: cost}}, the best among the families that ran the case; inf where the
+    family failed, and for every family on a case no family gets through."""
+    ratios = {f: [] for f in costs}
+    for case in _cases(costs):
+        here = [f for f in costs if case in costs[f]]
+        best = min(costs[f][case] for f in here)
+        for f in here:
             c = costs[f][case]
             ratios[f].append(max(c, TINY) / max(best, TINY) if math.isfinite(c) else math.inf)
     return {f: sorted(r) for f, r in ratios.items()}
+
+
+def unreached(costs):
+    """The number of cases of one cost table {family: {case: cost}} that no family gets through."""
+    return sum(not any(math.isfinite(by_case.get(c, math.inf)) for by_case in costs.values()) for c in _cases(costs))

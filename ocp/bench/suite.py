@@ -31,6 +31,12 @@ these" and the table expands to the Cartesian product of its lists:
                                                     # casadi.nlpsol if on the solver's allow-list
                                                     # (ocp.direct.solvers), typed
 
+A suite is the product of its cases and methods unless tables name groups: `group = "wide"` (or a
+list of names) on a [[cases]] or [[methods]] table, not expanded, pairs its cases (methods) only
+with the methods (cases) of a table sharing a group; a table without `group` pairs with every
+table. So a few cases can meet a wide matrix of methods while many meet a core few
+(suites/standard.toml).
+
 Every value is checked when the file is read (`load`): its type (a string is not a number), its
 range, the name (it names the default store, so it cannot leave the working folder), and the size
 (MAX_PAIRS, MAX_RUNS; `ocp bench` asks for --yes above `ocp.bench.command.CONFIRM_RUNS` solves); an error names the
@@ -43,6 +49,7 @@ cluster as they are, and a worker rebuilds the NLP from them.
 """
 
 import itertools
+from collections import Counter
 import json
 import math
 import re
@@ -220,6 +227,10 @@ class Suite:
     miss_tol: float
     cases: tuple
     methods: tuple
+    #: the groups of each case and of each method (aligned with them; empty: every group); () if
+    #: no table names a group
+    case_groups: tuple = ()
+    method_groups: tuple = ()
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not NAME.fullmatch(self.name):
@@ -235,9 +246,24 @@ class Suite:
     def settings_key(self):
         return _key(self.settings)
 
+    def _groups(self):
+        every = frozenset()
+        return self.case_groups or (every,) * len(self.cases), self.method_groups or (every,) * len(self.methods)
+
+    @staticmethod
+    def _meet(a, b):
+        return not a or not b or bool(a & b)
+
     def pairs(self):
-        """Every (case, method) pair, cases outermost."""
-        return [(c, m) for c in self.cases for m in self.methods]
+        """Every (case, method) pair whose groups meet (every pair without groups), cases outermost."""
+        cg, mg = self._groups()
+        return [(c, m) for c, a in zip(self.cases, cg) for m, b in zip(self.methods, mg) if self._meet(a, b)]
+
+    @property
+    def size(self):
+        """len(pairs()), counted without listing them."""
+        cg, mg = (Counter(g) for g in self._groups())
+        return sum(n * k for a, n in cg.items() for b, k in mg.items() if self._meet(a, b))
 
 
 def _typed(name, value, types, accepted):
@@ -412,24 +438,43 @@ def load(name_or_path):
         tables = {what: _typed(what, data.get(what, []), (list,), f"[[{what}]] tables") for what in ("cases", "methods")}
     except InputError as err:
         raise InputError(f"{path}: {err}") from None
-    found = {}
+    found, groups = {}, {}
     for what, make in (("cases", _cases), ("methods", lambda d: [_method(d)])):
-        items = []
+        items = {}
         for i, table in enumerate(tables[what], 1):
             try:
-                items += [item for d in _expand(table, what) for item in make(d)]
+                table = dict(_typed(what, table, (dict,), f"tables: [[{what}]] with a key = value per line"))
+                group = _group(table.pop("group", []))
+                for item in (item for d in _expand(table, what) for item in make(d)):
+                    old = items.get(item)
+                    items[item] = group if old is None else old | group if old and group else frozenset()
             except InputError as err:
                 raise InputError(f"{path}: [[{what}]] #{i}: {err}") from None
             if len(items) > MAX_PAIRS:
                 raise InputError(f"{path}: more than {MAX_PAIRS} {what}; accepted: at most {MAX_PAIRS}")
-        found[what] = tuple(dict.fromkeys(items))
+        found[what], groups[what] = tuple(items), tuple(items.values())
     cases, methods = found["cases"], found["methods"]
     if not cases or not methods:
         raise InputError(f"{path}: a suite needs at least one [[cases]] and one [[methods]] table")
-    if len(cases) * len(methods) * repeats > MAX_RUNS:
-        raise InputError(f"{path}: {len(cases)} cases x {len(methods)} methods x {repeats} repeats = "
-                         f"{len(cases) * len(methods) * repeats} solves; accepted: at most {MAX_RUNS}")
-    return Suite(name, description, repeats, time_limit, miss_tol, cases, methods)
+    grouped = any(g for gs in groups.values() for g in gs)
+    suite = Suite(name, description, repeats, time_limit, miss_tol, cases, methods,
+                  *((groups["cases"], groups["methods"]) if grouped else ()))
+    if suite.size * repeats > MAX_RUNS:
+        raise InputError(f"{path}: {suite.size} pairs x {repeats} repeats = "
+                         f"{suite.size * repeats} solves; accepted: at most {MAX_RUNS}")
+    if not suite.size:
+        raise InputError(f"{path}: no case shares a group with a method")
+    return suite
+
+
+def _group(value):
+    """The groups a table names (`group`: a name or a list of names), InputError otherwise."""
+    names = value if isinstance(value, list) else [value]
+    for name in names:
+        if not isinstance(name, str) or not NAME.fullmatch(name):
+            raise InputError(f"group = {short(value)} is not a group; group accepts a name ({NAME_RULE}) or a "
+                             f"list of names")
+    return frozenset(names)
 
 
 def _name(key, value):

@@ -33,15 +33,16 @@ class Outcome(enum.StrEnum):
     OK = "ok", 7, True, "optimal", "#2ca02c", "o"
     BUILD_ERROR = "build error", 0, False, "", "#7f7f7f", "+"
     TIME_LIMIT = "time limit", 1, False, "", "#bcbd22", "+"
-    INACCURATE = "inaccurate", 8, False, "optimal", "#98df8a", "o"
-    LOCAL_OPTIMUM = "local optimum", 9, False, "another", "#ff7f0e", "s", "o"
-    WRONG_STRUCTURE = "wrong structure", 11, False, "another", "#d62728", "D", "s"
-    BEYOND_HORIZON = "beyond horizon", 10, False, "another", "#8c564b", "D", "^"
+    INACCURATE = "inaccurate", 9, False, "optimal", "#98df8a", "o"
+    LOCAL_OPTIMUM = "local optimum", 10, False, "another", "#ff7f0e", "s", "o"
+    WRONG_STRUCTURE = "wrong structure", 12, False, "another", "#d62728", "D", "s"
+    BEYOND_HORIZON = "beyond horizon", 11, False, "another", "#8c564b", "D", "^"
     CHATTERING = "chattering", 6, False, "", "#e377c2", "P"
     MISSES_TARGET = "misses target", 5, False, "", "#9467bd", "X"
     NOT_CONVERGED = "not converged", 4, False, "", "#000000", "x"
     SOLVER_ERROR = "solver error", 3, False, "", "#7f7f7f", "x"
     NO_REFERENCE = "no reference", 2, False, "", "#17becf", "v"
+    DISCRETISATION = "discretisation", 8, True, "optimal", "#00695c", "o"
 
 
 #: the labels, in index order (failure maps store indices into this)

@@ -24,6 +24,10 @@ dataclass (plain data: it travels to worker processes) and implements:
        benchmarks/direct_size.py); `check_settings()` refuses a larger NLP (InputError)
     10. `T_bound(structure, kappa, resim_miss)`: the stated bound of the error of a verified T (the
        transcription's own evidence; `grid_bound` where it holds), None where none is stated
+    11. `integration_error(t, u, x0, kappa)`: the transcription's own estimate of how far its
+       integration of a control lands from the exact flow's (what the re-simulated miss of a
+       converged answer is, at that N); by default from its map `stage` at h and at two half steps
+       (`step_doubling`), None where a stage has extra variables (no map to apply)
 """
 
 from dataclasses import asdict, dataclass, fields
@@ -106,6 +110,18 @@ def grid_bound(structure, kappa, resim_miss):
     return GRID_SAFETY * h * h * sum(kappa / (4 * wi) for wi in w) + resim_miss * (1 / kappa + 1 / w[-1])
 
 
+def step_doubling(stage, t, u, x0, kappa):
+    """The error of the end state of the map x_{k+1} = stage(x_k, u_k, h_k) along the grid `t`
+    from x0, estimated from the same map at two half steps: to leading order, for a map of order
+    p >= 1, err = |x_h - x_{h/2}| 2^p / (2^p - 1) <= 2 |x_h - x_{h/2}|, the estimate returned."""
+    whole, halves = np.array(x0, float), np.array(x0, float)
+    for h, uk in zip(np.diff(t), u):
+        whole = np.array(stage(whole, uk, h, kappa)).ravel()
+        for _ in range(2):
+            halves = np.array(stage(halves, uk, h / 2, kappa)).ravel()
+    return 2.0 * float(np.hypot(*(whole - halves)))
+
+
 class Transcription:
     name = ""
     extra = 0
@@ -134,6 +150,12 @@ class Transcription:
 
     def T_bound(self, structure, kappa, resim_miss):
         return None
+
+    def integration_error(self, t, u, x0, kappa):
+        if self.extra:
+            return None
+        prepared = self.prepare()
+        return step_doubling(lambda x, uk, h, k: self.stage(x, uk, h, k, None, prepared)[0], t, u, x0, kappa)
 
     def applicable(self):
         return tuple(f.name for f in fields(self))

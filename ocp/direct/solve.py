@@ -24,6 +24,7 @@ import numpy as np
 
 from ..core import simulate
 from ..core.errors import InputError, last_line
+from ..core.numbers import order
 from ..core.problem import Problem
 from . import solvers, structure, watch
 from .guess import Guess, default_guesses
@@ -236,14 +237,14 @@ def verified(problem, method, settings, t, x, u, converged, solver_message, iter
 def _why(status, solver_message, limited, miss, miss_tol, bound):
     """A start's status in words, with the solver's own return status and the numbers that decided it."""
     if status == DirectStatus.MISSES_TARGET:
-        accuracy = (f"the transcription's own accuracy at this N ({bound:.2g})" if bound is not None else
+        accuracy = (f"the transcription's own accuracy at this N ({order(bound)})" if bound is not None else
                     f"miss_tol = {miss_tol:g} (the transcription states no accuracy of its integration)")
         return (f"the solver reported success ({solver_message}), but its control, re-simulated independently, misses "
-                f"the target by {miss:.2g}, more than {accuracy}")
+                f"the target by {order(miss)}, more than {accuracy}")
     if status == DirectStatus.DISCRETISATION:
         return (f"converged ({solver_message}); the control re-simulated independently misses the target by "
-                f"{miss:.2g}, more than miss_tol = {miss_tol:g} but within the transcription's own accuracy at this "
-                f"N ({bound:.2g}): a discretisation result")
+                f"{order(miss)}, more than miss_tol = {miss_tol:g} but within the transcription's own accuracy at "
+                f"this N ({order(bound)}): a discretisation result")
     if status == DirectStatus.NOT_CONVERGED:
         return f"{MESSAGES[status]} ({solver_message}" + ("; it stopped at its limit)" if limited else ")")
     return f"{MESSAGES[status]} ({solver_message})"

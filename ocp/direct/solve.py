@@ -13,8 +13,8 @@ checks fatrop and sqpmethod at N = 40), and a solver option that loosens the tol
 
 A converged start whose control, re-simulated, misses the target by more than miss_tol is judged
 against the transcription's own accuracy at its N (`Transcription.integration_error`: its map at
-h and at two half steps; for rk4 at kappa = 0.5, N = 25 its Richardson value is within 10 % of the
-re-simulated miss, tests/test_solver_time.py):
+h and at two half steps; for rk4 and Radau collocation at kappa = 0.5, N = 25 its Richardson value
+is within 10 % of the re-simulated miss, tests/test_solver_time.py):
 within miss_tol plus it, a discretisation result (DISCRETISATION, with its T bound); beyond it, the
 solver's success on a control that misses (MISSES_TARGET, the reason with both numbers). Each start
 runs under the solver's own limits (`ocp.direct.solvers.limits`), its end read from the solver's

@@ -78,6 +78,7 @@ class DirectClass(_Named):
     MISSES_TARGET = 6
     NOT_CONVERGED = 7
     SOLVER_ERROR = 8
+    DISCRETISATION = 9
 
 
 DIRECT_MESSAGES = {
@@ -90,6 +91,9 @@ DIRECT_MESSAGES = {
     DirectClass.MISSES_TARGET: "the solver converged, but its control misses the target when re-simulated",
     DirectClass.NOT_CONVERGED: "the NLP solver did not converge",
     DirectClass.SOLVER_ERROR: "the NLP solver raised an error or returned no usable point",
+    DirectClass.DISCRETISATION: "the optimum at the transcription's accuracy: the structure and branch of an optimal "
+                                "extremal, T within its stated bound, the control re-simulated missing the target "
+                                "by more than miss_tol but within the transcription's own accuracy at its N",
 }
 _MESSAGES = {SolveStatus: STATUS_MESSAGES, DirectClass: DIRECT_MESSAGES}
 

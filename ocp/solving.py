@@ -59,7 +59,8 @@ def _crosscheck(problem, extremal):
 
 def classify(direct, answer, ties, extremals, horizon):
     """The DirectClass of a direct solution against the search's answer, its ties and the other
-    extremals found before `horizon`."""
+    extremals found before `horizon`; a discretisation result (`DirectStatus.DISCRETISATION`) is
+    classified as a verified one, its optimum told apart (DISCRETISATION)."""
     from .direct import DirectStatus as status
     if direct.status == status.SOLVER_ERROR:
         return DirectClass.SOLVER_ERROR
@@ -72,7 +73,9 @@ def classify(direct, answer, ties, extremals, horizon):
     same = lambda e: tuple(e.signs) == tuple(direct.structure.arc_signs) and e.branch == direct.branch
     if any(same(e) for e in (answer, *ties)):
         bound = direct.T_bound
-        return DirectClass.OPTIMUM if bound is None or abs(direct.T - answer.T) <= bound else DirectClass.INACCURATE
+        if bound is not None and abs(direct.T - answer.T) > bound:
+            return DirectClass.INACCURATE
+        return DirectClass.DISCRETISATION if direct.status == status.DISCRETISATION else DirectClass.OPTIMUM
     if any(same(e) for e in extremals):
         return DirectClass.LOCAL_OPTIMUM
     return DirectClass.BEYOND_HORIZON if direct.T > horizon else DirectClass.WRONG_STRUCTURE

@@ -98,10 +98,12 @@ def test_branch_pinned_and_mirror_symmetry():
 
 
 def test_a_coarse_transcription_that_misses_the_target_is_not_a_success():
-    """RK4 with one step on 8 intervals: IPOPT converges, the re-simulated control misses."""
+    """RK4 with one step on 8 intervals: IPOPT converges, the re-simulated control misses, by no
+    more than the transcription's own estimate of its integration error (issue 21): a
+    discretisation result, not a success."""
     sol = direct_layer.solve(ocp.swing_up(1.0), ocp.MultipleShooting(N=8, M=1))
-    assert sol.status == DirectStatus.MISSES_TARGET and sol.converged and not sol.success
-    assert sol.resim_miss > 1e-6 and sol.T_bound is None
+    assert sol.status == DirectStatus.DISCRETISATION and sol.converged and not sol.success
+    assert 1e-6 < sol.resim_miss <= sol.miss_bound
 
 
 @pytest.mark.parametrize("method", [ocp.MultipleShooting(N=30, integrator="cvodes"),

@@ -14,7 +14,10 @@ import ocp
 from ocp.direct import DirectStatus
 from ocp.result import DirectClass, SolveStatus
 
-COARSE = ocp.MultipleShooting(N=8, M=1)        # RK4, one step per interval: IPOPT converges, the control misses
+COARSE = ocp.MultipleShooting(N=8, M=1)        # RK4, one step per interval
+#: IPOPT's tolerances loosened: it reports success on a control that misses by more than the
+#: transcription's own accuracy at N = 8 (a miss within it is a discretisation result, issue 21)
+LOOSE = {"ipopt.tol": 1e-1, "ipopt.constr_viol_tol": 1e-1, "ipopt.dual_inf_tol": 1e1, "ipopt.compl_inf_tol": 1e-1}
 CLAIMS = ("T =", "+-", "error estimate", "cross-check", "certificate", "extremal u =")
 SUCCESS_ONLY = {"T", "T_error", "error_source", "switch_times", "switch_time_error", "switch_states", "ties",
                 "runner_up", "extremals", "certificate", "target", "n_switches", "arc_signs"}
@@ -23,13 +26,13 @@ SUCCESS_ONLY = {"T", "T_error", "error_source", "switch_times", "switch_time_err
 @pytest.fixture(scope="module")
 def with_search():
     """The optimum found by the search, beside a direct answer that misses the target."""
-    return ocp.solve(ocp.swing_up(1.0), COARSE)
+    return ocp.solve(ocp.swing_up(1.0), COARSE, options=LOOSE)
 
 
 def failures(with_search):
     p = ocp.swing_up(1.0)
     return {
-        "direct misses": ocp.solve(p, COARSE, search=False),
+        "direct misses": ocp.solve(p, COARSE, options=LOOSE, search=False),
         "direct not converged": ocp.solve(p, ocp.MultipleShooting(N=20), options={"ipopt.max_iter": 1}, search=False),
         "direct solver error": ocp.solve(p, ocp.MultipleShooting(N=20), solver="blocksqp", search=False),
         "not verified": replace(with_search, status=SolveStatus.NOT_VERIFIED, best=None, resim_miss=1e-3),

@@ -36,7 +36,8 @@ SEARCH = Measurement(status="optimal", success=True, T=4.0, T_error=1e-13, arc_s
 #: one input for every branch of `scoring.outcome` and of `ocp.solving.classify`: (measurement, reference, limit)
 BRANCHES = {
     "build error": (Measurement(success=False, status="build_error", message="build error: x"), REF, 60),
-    "time limit": (DIRECT, REF, 0.5),
+    "time limit": (replace(DIRECT, limited=True), REF, 60),
+    "over the CPU limit": (replace(DIRECT, solver_cpu_time_s=0.6), REF, 0.5),
     "no reference": (DIRECT, Reference(problem="p", T=None, T_error=None, source="none: x"), 60),
     "search ok": (SEARCH, REF, 60),
     "search inaccurate": (replace(SEARCH, T=4.1), REF, 60),
@@ -47,6 +48,7 @@ BRANCHES = {
     "direct misses": (replace(DIRECT, direct_status=1, success=False), REF, 60),
     "chattering": (replace(DIRECT, bang_bang=False), REF, 60),
     "optimum": (DIRECT, REF, 60),
+    "discretisation": (replace(DIRECT, direct_status=4, success=False, resim_miss=5e-6, miss_bound=1e-5), REF, 60),
     "tie": (replace(DIRECT, arc_signs=(-1, 1), branch=-1), REF, 60),
     "inaccurate": (replace(DIRECT, T=4.01), REF, 60),
     "local optimum": (replace(DIRECT, T=5.0, arc_signs=(1, -1, 1)), REF, 60),
@@ -67,7 +69,10 @@ def test_every_outcome_the_scoring_produces_is_in_the_table_and_every_entry_is_p
     assert sorted(o.rank for o in Outcome) == list(range(len(Outcome)))
     assert all(o.colour.startswith("#") and o.marker for o in Outcome)
     assert all(bool(o.open_marker) == (o.structure == "another") for o in Outcome)
-    assert [o for o in Outcome if o.success] == [Outcome.OK]
+    assert produced["over the CPU limit"] == produced["time limit"] == "time limit"
+    assert replace(DIRECT, total_time_s=100.0).solver_time_s < 60 and scoring.outcome(
+        replace(DIRECT, total_time_s=100.0), REF, 60) == "ok"          # the checking's time is not the solver's
+    assert [o for o in Outcome if o.success] == [Outcome.OK, Outcome.DISCRETISATION]
 
 
 def row(**changes):

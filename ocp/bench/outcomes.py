@@ -35,15 +35,16 @@ class Outcome(enum.StrEnum):
     OK = "ok", 7, True, "optimal", "#2ca02c", "o"
     BUILD_ERROR = "build error", 0, False, "", "#969696", "+"
     TIME_LIMIT = "time limit", 1, False, "", "#ffd92f", "+"
-    INACCURATE = "inaccurate", 8, False, "optimal", "#01665e", "d"
-    LOCAL_OPTIMUM = "local optimum", 9, False, "another", "#d62728", "s", "o"
-    WRONG_STRUCTURE = "wrong structure", 11, False, "another", "#e7298a", "D", "s"
-    BEYOND_HORIZON = "beyond horizon", 10, False, "another", "#8c564b", "^", "^"
+    INACCURATE = "inaccurate", 9, False, "optimal", "#01665e", "d"
+    LOCAL_OPTIMUM = "local optimum", 10, False, "another", "#d62728", "s", "o"
+    WRONG_STRUCTURE = "wrong structure", 12, False, "another", "#e7298a", "D", "s"
+    BEYOND_HORIZON = "beyond horizon", 11, False, "another", "#8c564b", "^", "^"
     CHATTERING = "chattering", 6, False, "", "#f781bf", "P"
     MISSES_TARGET = "misses target", 5, False, "", "#17becf", "X"
     NOT_CONVERGED = "not converged", 4, False, "", "#525252", "x"
     SOLVER_ERROR = "solver error", 3, False, "", "#bcbd22", "x"
     NO_REFERENCE = "no reference", 2, False, "", "#a50026", "v"
+    DISCRETISATION = "discretisation", 8, True, "optimal", "#a6d854", "o"
 
 
 #: the labels, in index order (failure maps store indices into this)

@@ -4,11 +4,15 @@ or on rockit's FreeGrid (every interval's length a variable), from the same init
 verified by ocp's independent re-simulation on the grid rockit solved, read by ocp's structure
 reader.
 
-Like `ocp.direct.solve`, every guess is solved and the best verified answer kept; the NLP is
-transcribed once per call (rockit has no cache across calls), and that is its build time.
+Like `ocp.direct.solve`, every guess is solved and the best verified answer kept, each under the
+solver's own limits (`ocp.direct.solvers.limits`, passed through rockit to its solver); the NLP
+is transcribed once per call (rockit has no cache across calls), and that is its build time. A
+converged answer's miss is judged against the integration error of rockit's "rk" (M RK4 steps per
+interval, ocp's rk4 multiple shooting) on the grid it solved.
 """
 
 import importlib.util
+import math
 import time
 
 import numpy as np
@@ -17,7 +21,7 @@ from .. import direct
 from ..core.errors import last_line
 from ..core.problem import CONTROL_BOUNDS, dynamics, terminal_bounds, terminal_constraints
 from ..direct import solvers
-from ..direct.solve import best_of, verified
+from ..direct.solve import best_of, limited, own_times, verified
 from .suite import PEER_FREE_GRID
 
 MISSING = "rockit is not installed (pip install rockit-meco, a dependency of ocp): its runs are skipped"
@@ -27,9 +31,9 @@ def available():
     return importlib.util.find_spec("rockit") is not None
 
 
-def _ocp(problem, method, T_guess):
+def _ocp(problem, method, T_guess, limits):
     """The rockit Ocp of `problem`: dynamics, control bounds and terminal set as declared in
-    `ocp.core.problem`."""
+    `ocp.core.problem`; its solver under `limits` and the options of `method`."""
     import casadi as ca
     import rockit
 
@@ -55,25 +59,27 @@ def _ocp(problem, method, T_guess):
     grid = rockit.FreeGrid() if method.transcription == PEER_FREE_GRID else rockit.UniformGrid()
     oc.method(rockit.MultipleShooting(N=settings.N, M=settings.M, intg="rk", grid=grid))
     solvers.require("nlpsol", method.solver)
-    quiet = {"expand": True, "print_time": False, **solvers.solver(method.solver).quiet}
-    oc.solver(method.solver, quiet | method.applied)
+    quiet = {"expand": True, "print_time": False, "record_time": True, **solvers.solver(method.solver).quiet}
+    oc.solver(method.solver, quiet | method.applied | limits)
     return oc, (theta, omega, u)
 
 
-def solve(problem, method, guess=None, miss_tol=direct.MISS_TOL):
-    """An ocp `Solution` of `problem` by rockit; `guess` None (ocp's default starts) or a Guess.
-    Returns (solution, (n_w, n_g)), the NLP size as rockit built it."""
+def solve(problem, method, guess=None, miss_tol=direct.MISS_TOL, time_limit_s=math.inf):
+    """An ocp `Solution` of `problem` by rockit; `guess` None (ocp's default starts) or a Guess;
+    every start under the solver's limits (`time_limit_s`: its CPU seconds where it has such an
+    option). Returns (solution, (n_w, n_g)), the NLP size as rockit built it."""
     with solvers.loading():             # rockit's nlpsol loads its plugins here: never from the working folder
-        return _solve(problem, method, guess, miss_tol)
+        return _solve(problem, method, guess, miss_tol, time_limit_s)
 
 
-def _solve(problem, method, guess, miss_tol):
-    start = time.perf_counter()
+def _solve(problem, method, guess, miss_tol, time_limit_s):
+    start, cpu = time.perf_counter(), time.process_time()
     settings = method.transcription_object()
     guesses = direct.default_guesses(problem, settings.N) if guess is None else [guess]
-    oc, (theta, omega, u) = _ocp(problem, method, guesses[0].T)
+    limits = solvers.limits(method.solver, method.applied, time_limit_s)
+    oc, (theta, omega, u) = _ocp(problem, method, guesses[0].T, limits)
     oc._transcribe()           # rockit transcribes lazily on solve; done here so the build is timed alone
-    build_time = time.perf_counter() - start
+    build_time, build_cpu = time.perf_counter() - start, time.process_time() - cpu
     runs = []
     opti = oc._method.opti
     # rockit's own set_initial of a sampled array takes seconds (it evaluates an interpolant at
@@ -87,22 +93,25 @@ def _solve(problem, method, guess, miss_tol):
             for length in oc._method.T_local:
                 opti.set_initial(length, g.T / N)
         runs.append(_run(oc, (theta, omega, u), problem, method, g, miss_tol))
-    return best_of(runs, build_time, time.perf_counter() - start), (opti.nx, opti.ng)
+    return best_of(runs, build_time, time.perf_counter() - start, build_cpu, limits), (opti.nx, opti.ng)
 
 
 def _run(oc, variables, problem, method, guess, miss_tol):
     theta, omega, u = variables
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     try:
         sol = oc.solve()
         stats = sol.stats
     except RuntimeError as err:       # rockit raises when the solver does not succeed
         sol, stats = oc.non_converged_solution, {"return_status": f"not converged: {last_line(err)}"}
-    solve_time = time.perf_counter() - start
+    wall, cpu = time.perf_counter() - start, time.process_time() - cpu
     stats = dict(oc._method.opti.stats(), **stats)
+    wall, cpu = own_times(stats, wall, cpu)
     t, theta_k = sol.sample(theta, grid="control")          # the control grid rockit solved (free or uniform)
     x = np.column_stack([theta_k, sol.sample(omega, grid="control")[1]])
     info = dict(method.to_dict(), transcription=f"{method.transcription} multiple shooting", integrator="rk")
     return verified(problem, info, None, t, x, np.clip(sol.sample(u, grid="control")[1][:-1], -1.0, 1.0),
                     bool(stats.get("success", False)), str(stats.get("return_status")),
-                    int(stats.get("iter_count", -1)), miss_tol, solve_time, guess.label, problem.branch)
+                    int(stats.get("iter_count", -1)), miss_tol, wall, guess.label, problem.branch,
+                    limited=limited(stats), cpu_time_s=cpu,
+                    integration=method.transcription_object())

@@ -60,19 +60,23 @@ class Reference:
 @dataclass(frozen=True, kw_only=True)
 class Repeat:
     """The times of one cold repeat of a pair (wall clock; `cpu_time_s`: the worker process's CPU time,
-    every thread, build, solve and checking together), and the worker's peak resident set during it."""
+    every thread, build, solve and checking together; `solver_cpu_time_s`: the solver's own, build
+    and solves), and the worker's peak resident set during it."""
 
     build_time_s: float
     solve_time_s: float
     total_time_s: float
     cpu_time_s: float | None = None
+    solver_cpu_time_s: float | None = None
     peak_rss_mib: float | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
 class StartRecord:
     """One initial guess of a direct solve (`ocp.direct.solve.Start`): its label, how it ended
-    (`DirectStatus` name) with the solver's own message, T, iterations and NLP solve time."""
+    (`DirectStatus` name) and why (`message`, with the numbers that decided it), the solver's own
+    return status, whether it stopped at the solver's limit, T, iterations, the re-simulated miss
+    and the largest accepted as a discretisation result, and the solver's own wall and CPU time."""
 
     guess: str
     status: str
@@ -80,6 +84,11 @@ class StartRecord:
     T: float | None
     iterations: int | None
     solve_time_s: float
+    message: str = ""
+    limited: bool | None = None
+    resim_miss: float | None = None
+    miss_bound: float | None = None
+    cpu_time_s: float | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -106,10 +115,13 @@ class DirectAnswer:
 class Measurement:
     """One pair solved `repeats` times, each cold: the fields of the first solve, the median of each
     time and of the peak resident set over the repeats (`times`), and the spread of T across them.
-    The solver's own times (`build_time_s`, `solve_time_s`: its NLP solves of every start) are apart
-    from the suite's checking (`check_time_s` = total - build - solve: the independent re-simulation
-    of every start and the reading of its structure); `total_time_s`, which the outcome's time limit
-    reads, holds both. `every_start`: each initial guess with the solver's own message.
+    The solver's own times (`build_time_s`, `solve_time_s`: its NLP solves of every start, wall;
+    `solver_cpu_time_s`: the same in CPU time) are apart from the suite's checking (`check_time_s`
+    = total - build - solve: the independent re-simulation of every start and the reading of its
+    structure); `total_time_s` holds both. The time limit is the solver's own (`limits`: its
+    options and their values; `limited`: the answer stopped at one). `miss_bound`: the largest
+    miss of a discretisation result (miss_tol plus the transcription's own estimate of its
+    integration error). `every_start`: each initial guess, how it ended and why.
     `direct_status` is the `ocp.direct.DirectStatus` of a direct answer (None for the search and for
     a failure before any answer); `status` its name, or the search's, or "build_error" /
     "solver_error"."""
@@ -130,6 +142,9 @@ class Measurement:
     bang_bang: bool | None = None
     longest_interior_run: int | None = None
     resim_miss: float | None = None
+    miss_bound: float | None = None
+    limited: bool | None = None
+    limits: dict = field(default_factory=dict)
     extremals_integrated: int | None = None
     starts: int = 0
     n_w: int = 0
@@ -140,6 +155,7 @@ class Measurement:
     total_time_s: float = 0.0
     check_time_s: float | None = None
     cpu_time_s: float | None = None
+    solver_cpu_time_s: float | None = None
     peak_rss_mib: float | None = None
     peak_rss_scope: str | None = None
     times: tuple[Repeat, ...] = ()

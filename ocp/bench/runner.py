@@ -94,7 +94,7 @@ def _run(suite, pairs, store, pool, workers, executor_name, session, notes):
         for case, method in todo:
             status = store.claim(case.key, method.key, settings, session)
             if status == "mine":
-                yield measure, (case, method, suite.repeats, suite.miss_tol), (case, method, time.time())
+                yield measure, (case, method, suite.repeats, suite.miss_tol, suite.time_limit_s), (case, method, time.time())
             else:
                 skipped[status] += 1
                 progress.step(f"{case.label} | {method.label}: {status} by another ocp bench")

@@ -2,13 +2,19 @@
 class (`ocp.bench.outcomes.Outcome`), tried in the order of its `rank`:
 
     build error      the method could not be built (a plugin that cannot load, an option refused)
-    time limit       the median total time exceeds the suite's limit
+    time limit       the answer stopped at the solver's own limit (`Measurement.limits`: its
+                     iterations per start, which decide alike on any machine, and the suite's
+                     time limit as its CPU seconds where it has such an option; the search's own
+                     time limit), or the solver's own CPU time exceeds the suite's limit
     no reference     the search found no optimum for the case
     the search       scored against the reference (Finch's formula where one applies, else its
                      own optimum): ok when |T - T_ref| <= T_error + T_ref_error, inaccurate when
                      it succeeded otherwise, not converged when it did not
     a direct answer  solver error when it raised; otherwise its `ocp.solving.classify` class
-                     against the reference's optimum, ties and extremals (the optimum is "ok")
+                     against the reference's optimum, ties and extremals (the optimum is "ok";
+                     the optimum whose control misses the target by more than miss_tol but
+                     within the transcription's own accuracy at its N is "discretisation", scored
+                     on its T error and miss as "ok" is)
 """
 
 from ..result import DirectClass
@@ -21,7 +27,7 @@ def outcome(m, ref, time_limit_s):
     """The Outcome of the Measurement `m` against the Reference `ref` (module doc)."""
     if m.status == "build_error":
         return Outcome.BUILD_ERROR
-    if m.total_time_s > time_limit_s:
+    if m.limited or (m.solver_cpu_time_s or 0.0) > time_limit_s:
         return Outcome.TIME_LIMIT
     if ref.T is None:
         return Outcome.NO_REFERENCE

@@ -5,8 +5,12 @@ these" and the table expands to the Cartesian product of its lists:
 
     name = "quick"
     repeats = 3             # each (case, method) pair is timed this many times; medians are stored
-    time_limit_s = 60       # a run longer than this is a "time limit" failure (not interrupted)
-    miss_tol = 1e-6         # largest re-simulated miss accepted as success
+    time_limit_s = 60       # the solver's CPU seconds (its own option where it has one, e.g. IPOPT's
+                            # max_cpu_time, per start); a row whose solver stops at a limit of its own
+                            # (that, or its iterations: ocp.direct.solvers.limits) or spends more CPU
+                            # time is a "time limit" failure; the search's own time limit
+    miss_tol = 1e-6         # largest re-simulated miss accepted as success (a converged answer within
+                            # miss_tol plus its transcription's own accuracy: "discretisation")
 
     [[cases]]
     kind = "swing-up"       # or "damping"

@@ -24,13 +24,17 @@ dataclass (plain data: it travels to worker processes) and implements:
        benchmarks/direct_size.py); `check_settings()` refuses a larger NLP (InputError)
     10. `T_bound(structure, kappa, resim_miss)`: the stated bound of the error of a verified T (the
        transcription's own evidence; `grid_bound` where it holds), None where none is stated
+    11. `integration_error(t, u, x0, kappa)`: the transcription's own estimate of how far its
+       integration of a control lands from the exact flow's (what the re-simulated miss of a
+       converged answer is, at that N): by default its map (`stage`, its extra variables solved
+       from its own constraints by Newton's method) at h and at two half steps (`step_doubling`)
 """
 
 from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from ..core.errors import InputError, finite, integer
+from ..core.errors import Fault, InputError, finite, integer
 
 N_MAX = 5000     # the largest N of any transcription; the NLP's size is limited too (`size_limit`)
 #: the safety factor of `grid_bound` over its leading-order term (the terms of order h^3 neglected)
@@ -106,6 +110,18 @@ def grid_bound(structure, kappa, resim_miss):
     return GRID_SAFETY * h * h * sum(kappa / (4 * wi) for wi in w) + resim_miss * (1 / kappa + 1 / w[-1])
 
 
+def step_doubling(flow, t, u, x0, kappa):
+    """The error of the end state of the map x_{k+1} = flow(x_k, u_k, h_k, kappa) along the grid
+    `t` from x0, estimated from the same map at two half steps: to leading order, for a map of
+    order p >= 1, err = |x_h - x_{h/2}| 2^p / (2^p - 1) <= 2 |x_h - x_{h/2}|, the estimate returned."""
+    whole, halves = np.array(x0, float), np.array(x0, float)
+    for h, uk in zip(np.diff(t), u):
+        whole = np.array(flow(whole, uk, h, kappa)).ravel()
+        for _ in range(2):
+            halves = np.array(flow(halves, uk, h / 2, kappa)).ravel()
+    return 2.0 * float(np.hypot(*(whole - halves)))
+
+
 class Transcription:
     name = ""
     extra = 0
@@ -134,6 +150,32 @@ class Transcription:
 
     def T_bound(self, structure, kappa, resim_miss):
         return None
+
+    def integration_error(self, t, u, x0, kappa):
+        return step_doubling(self.flow(), t, u, x0, kappa)
+
+    def flow(self):
+        """The stage as a numeric map (x, u, h, kappa) -> its end state: its extra variables solved
+        from its own constraints (CasADi's rootfinder fast_newton, from `extra_guess`)."""
+        import casadi as ca
+
+        from . import solvers
+        sym = getattr(ca, self.symbolic)
+        x, u, h, kappa, extra = sym.sym("x", 2), sym.sym("u"), sym.sym("h"), sym.sym("kappa"), sym.sym("c", self.extra)
+        end, own = self.stage(x, u, h, kappa, extra, self.prepare())
+        inputs = ca.vertcat(x, u, h, kappa)
+        ends = ca.Function("end", [extra, inputs], [end])
+        if not self.extra:
+            return lambda xk, uk, hk, k: ends(ca.DM(0, 1), ca.vertcat(xk, uk, hk, k))
+        solvers.require("rootfinder", "fast_newton", Fault)
+        with solvers.loading():
+            solve = ca.rootfinder("stage", "fast_newton", ca.Function("g", [extra, inputs], [ca.vertcat(*own)]))
+
+        def step(xk, uk, hk, k):
+            given = ca.vertcat(xk, uk, hk, k)
+            guess = self.extra_guess(np.full(2, xk[0]), np.full(2, xk[1]))[0]
+            return ends(solve(guess, given), given)
+        return step
 
     def applicable(self):
         return tuple(f.name for f in fields(self))

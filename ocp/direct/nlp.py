@@ -28,7 +28,7 @@ from .base import Transcription
 @dataclass
 class NLP:
     """A built NLP: the CasADi solver (and its iteration callback, `ocp.direct.watch`, kept alive
-    with it) and the layout of its variables."""
+    with it), the layout of its variables, and the wall and CPU time (the process's) of its build."""
 
     settings: Transcription
     solver_name: str
@@ -40,6 +40,7 @@ class NLP:
     lbg: np.ndarray
     ubg: np.ndarray
     build_time_s: float
+    build_cpu_time_s: float
     callback: object = None
 
     @property
@@ -122,7 +123,7 @@ def build(settings, solver_name="ipopt", options=None, reading="circle"):
 def _build(settings, solver_name, options_json, reading):
     import casadi as ca
 
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     options = json.loads(options_json)
     with solvers.loading():
         nlp, lbg, ubg = _nlp(settings, reading)
@@ -136,7 +137,7 @@ def _build(settings, solver_name, options_json, reading):
             raise InputError(f"casadi.nlpsol({solver_name!r}) could not be built with the options {options}: "
                              f"{_cause(err, solver_name)}") from None
     return NLP(settings, solver_name, options, reading, solvers.Guarded(function), nlp["x"].numel(), nlp["g"].numel(),
-               lbg, ubg, time.perf_counter() - start, callback)
+               lbg, ubg, time.perf_counter() - start, time.process_time() - cpu, callback)
 
 
 def _cause(err, solver_name):

@@ -265,7 +265,9 @@ class Solver:
     is told which constraints are equalities; `qp`: the default of its `qpsol` option, whose QP
     solver ocp silences (`CONICS[...].quiet`) and makes report a failed QP through the NLP's status;
     its fair configuration and why; the plugins it loads by default (`uses`, kind -> name); the
-    options a user may set (besides COMMON)."""
+    options a user may set (besides COMMON); `iteration_limit`: its option of the iterations per
+    start and the solver's own default of it, `cpu_limit`: its option of the CPU seconds per start
+    (`limits`)."""
 
     quiet: dict = field(default_factory=dict)
     options: dict = field(default_factory=dict)
@@ -274,6 +276,8 @@ class Solver:
     uses: dict = field(default_factory=dict)
     equality: bool = False
     qp: str | None = None
+    iteration_limit: tuple = ()
+    cpu_limit: str | None = None
 
     @property
     def fields(self):
@@ -311,25 +315,25 @@ SOLVERS = {
                                                            "relax_bounds"))},
         fair={"ipopt.tol": TOL, "ipopt.linear_solver": "mumps"},
         why="MUMPS: the linear solver the wheel ships (HSL's MA27/MA57 are absent); tol its own default",
-        uses={"linsol": "mumps"}),
+        uses={"linsol": "mumps"}, iteration_limit=("ipopt.max_iter", 3000), cpu_limit="ipopt.max_cpu_time"),
     "fatrop": Solver(
         quiet={"structure_detection": "auto", "fatrop.print_level": 0}, equality=True,
         options={"fatrop.tol": POSITIVE, "fatrop.max_iter": COUNT, "fatrop.print_level": Integer(0, 10),
                  "fatrop.acceptable_tol": POSITIVE, "structure_detection": Choice(("auto", "none")), "debug": Flag()},
-        fair={"fatrop.tol": TOL},
+        fair={"fatrop.tol": TOL}, iteration_limit=("fatrop.max_iter", 1000),
         why="fatrop's own stage structure detection (ocp's default) and the common tolerance"),
     "sqpmethod": Solver(
         quiet=_SQP_QUIET, qp="qpoases", uses={"conic": "qpoases"},
         options=_SQP | {"qpsol_options": PluginOptions("qpsol", "qpoases"), "max_iter_ls": COUNT,
                         "min_step_size": POSITIVE, "elastic_mode": Flag(), "second_order_corrections": Flag()},
-        fair=_SQP_FAIR,
+        fair=_SQP_FAIR, iteration_limit=("max_iter", 50),
         why="exact Hessian regularised to be positive definite, so that the sparse active-set QP (qrqp) "
             "always has a solution"),
     "feasiblesqpmethod": Solver(
         quiet=_SQP_QUIET, qp="qpoases", uses={"conic": "qpoases"},
         options=_SQP | {"qpsol_options": PluginOptions("qpsol", "qpoases"), "optim_tol": POSITIVE,
                         "feas_tol": POSITIVE, "tr_rad0": POSITIVE, "tr_tol": POSITIVE, "watchdog": COUNT},
-        fair=_SQP_FAIR,
+        fair=_SQP_FAIR, iteration_limit=("max_iter", 50),
         why="as sqpmethod; its feasible start cannot be given: it is a transfer that reaches the target, "
             "i.e. an answer of the problem"),
     "blocksqp": Solver(
@@ -340,6 +344,7 @@ SOLVERS = {
                  "hess_memsize": Integer(1), "block_hess": Integer(0, 2), "warmstart": Flag(),
                  "print_header": Flag(), "print_iteration": Flag(), "print_maxit_reached": Flag()},
         fair={"linsol": "ldl", "schur": False, "restore_feas": False, "opttol": TOL, "nlinfeastol": TOL},
+        iteration_limit=("max_iter", 100),
         why="MA27 is absent: CasADi's ldl, with qpOASES's dense QP (its Schur-complement QP needs a pivoting "
             "factorisation, ldl has none) and no restoration phase (it builds a solver of its own on MA27)"),
     "bonmin": Solver(
@@ -351,7 +356,7 @@ SOLVERS = {
     "qrsqp": Solver(options={"max_iter": COUNT, "min_iter": COUNT, "max_iter_ls": COUNT, "tol_pr": POSITIVE,
                              "tol_du": POSITIVE, "min_step_size": POSITIVE, "print_header": Flag(),
                              "print_iteration": Flag(), "hessian_approximation": Choice(("exact", "limited-memory"))},
-                    uses={"conic": "qrqp"}),
+                    uses={"conic": "qrqp"}, iteration_limit=("max_iter", 50)),
     "scpgen": Solver(),
     # shipped as plugins that need their vendor's library, absent from the wheel: build errors
     "knitro": Solver(),
@@ -416,15 +421,34 @@ def available_solvers():
     return [name for name in SOLVERS if available("nlpsol", name)]
 
 
+def limits(name, options, time_limit_s=math.inf):
+    """The limits of one start of solver `name` under `options`, each the solver's own option ->
+    its value: the iterations (the option given, else the solver's own default, made explicit so
+    that the row records it) and, where the solver has a CPU-time option and `time_limit_s` is
+    finite, the CPU seconds (the option given, else `time_limit_s`). The iteration limit decides
+    alike on any machine; the CPU-time one is a wide margin (a start of the quick suite takes a
+    second or less)."""
+    entry = solver(name)
+    limited = {}
+    if entry.iteration_limit:
+        option, default = entry.iteration_limit
+        limited[option] = options.get(option, default)
+    if entry.cpu_limit and (entry.cpu_limit in options or math.isfinite(time_limit_s)):
+        limited[entry.cpu_limit] = float(options.get(entry.cpu_limit, time_limit_s))
+    return limited
+
+
 def quiet_options(name, options, symbolic, lbg, ubg):
     """CasADi's defaults made quiet, under the user's `options` (which win): expand where the
-    transcription is SX, print levels off; fatrop is told which constraints are equalities; a QP
+    transcription is SX, print levels off, the solver's own times recorded (`record_time`: its
+    stats' t_proc_total, t_wall_total); fatrop is told which constraints are equalities; a QP
     solver silenced and its failure reported through the NLP's status."""
     entry = SOLVERS[name]
     opts = dict(options)
     if symbolic == "SX":
         opts.setdefault("expand", True)
     opts.setdefault("print_time", False)
+    opts.setdefault("record_time", True)
     for key, value in entry.quiet.items():
         opts.setdefault(key, value)
     if entry.equality:

@@ -108,7 +108,8 @@ class DirectSolution:
     theta_N, or the pinned one); `status` (DirectStatus), why (`message`) and the solver's own
     `solver_message`; `limited`: it stopped at its iteration or time limit (`limits`: the solver's
     options of them and their values); `resim_miss`: the distance in (theta, omega) from the target
-    of the control re-simulated independently (success needs it <= miss_tol; a converged answer
+    of the control re-simulated independently (nan where the solver did not converge: not
+    re-simulated; success needs it <= miss_tol; a converged answer
     within `miss_bound`, miss_tol plus the transcription's own estimate of its integration error
     at this N, is a discretisation result); `T_bound`: the stated bound of the error of T (None
     where none has been measured); timings: the solver's own wall and CPU time (`cpu_time_s`),
@@ -219,10 +220,14 @@ def verified(problem, method, settings, t, x, u, converged, solver_message, iter
     that misses by more than miss_tol is a discretisation result when within miss_tol plus the
     transcription's own estimate of its integration error (`integration`, default `settings`:
     `Transcription.integration_error`), else it misses the target. Its T bound the transcription's
-    (`settings`; None: another program's, no bound)."""
+    (`settings`; None: another program's, no bound). Only a converged start is re-simulated (its miss
+    decides its class); a diverged one's control may run for thousands of time units at angular
+    velocities of thousands, where DOP853 at 1e-13 takes minutes, and its miss would decide nothing."""
     branch = problem.nearest_branch(x[-1, 0]) if branch is None else branch
-    final = simulate.piecewise(problem.x0, t, u, problem.kappa)[-1]
-    miss = float(np.hypot(*(final - np.array(problem.target(branch)))))
+    miss = math.nan                 # a start the solver did not finish is not re-simulated: nothing rests on it
+    if converged:
+        final = simulate.piecewise(problem.x0, t, u, problem.kappa)[-1]
+        miss = float(np.hypot(*(final - np.array(problem.target(branch)))))
     integration = settings if integration is None else integration
     bound = None
     if converged is None:

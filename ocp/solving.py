@@ -1,7 +1,8 @@
 """`ocp.solve`: the minimum time of a problem, and how each method fares against it.
 
     [direct transcription]     if a method is given: its answer, verified by re-simulation; its
-                               T (when verified) is a feasible time that sets the search's horizon
+                               T (when verified, or a discretisation result) sets the search's horizon,
+                               so that the extremal it converged to is found and classified
     complete extremal search   every extremal reaching the target set before the horizon
                                (`ocp.indirect.searching`); the least T is the answer, ties reported
     verification and certificate  the answer's state and costate integrated again by CVODES, with
@@ -139,7 +140,7 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
                         crosscheck=_crosscheck(problem, best) if best else None,
                         direct_time_s=direct_time, total_time_s=time.perf_counter() - start)
     horizon = None
-    if direct is not None and direct.success and math.isfinite(direct.T):
+    if direct is not None and direct.lands_on_target and math.isfinite(direct.T):
         horizon = direct.T * (1 + margin) / (1 - HORIZON_BAND)
     begun = time.perf_counter()
     found = _search(problem, horizon, margin, time_limit, progress)

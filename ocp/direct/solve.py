@@ -145,6 +145,12 @@ class DirectSolution:
         return self.status == DirectStatus.VERIFIED
 
     @property
+    def lands_on_target(self):
+        """Verified, or a discretisation result: the control lands within miss_tol, or within the
+        transcription's own accuracy at this N."""
+        return self.status in (DirectStatus.VERIFIED, DirectStatus.DISCRETISATION)
+
+    @property
     def converged(self):
         return self.status in (DirectStatus.VERIFIED, DirectStatus.DISCRETISATION, DirectStatus.MISSES_TARGET)
 

@@ -308,7 +308,8 @@ def work_precision(records, out_dir, formats):
             ax.set_xlabel("solver time per solve (build and NLP solves), median of repeats, cold (s)")
             ax.set_ylabel("|T - T*|   (T*: the complete search's optimum)")
             ax.set_title(f"work precision: {printable(case)[:LABEL]}")
-            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+            if ax.get_legend_handles_labels()[0]:          # no legend for a chart of no direct answer
+                ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
             if notes:
                 fig.text(0.01, -0.02, "\n".join(textwrap.fill(n, 150) for n in notes[:40])[:CELL * 4], fontsize=6,
                          va="top")

@@ -47,7 +47,7 @@ from ocp.bench.row import Measurement, Reference
 def reference(case):
     return Reference(problem=case.problem_key, T=4.0, T_error=1e-12, source="a stand-in", arc_signs=(1, -1),
                      switch_times=(1.0,))
-def measure(case, method, repeats=1, miss_tol=1e-6):
+def measure(case, method, repeats=1, miss_tol=1e-6, time_limit_s=None):
     time.sleep(0.05)
     return Measurement(success=True, status="optimal", T=4.0, T_error=1e-12, arc_signs=(1, -1), switch_times=(1.0,),
                        total_time_s=0.02)

@@ -47,7 +47,7 @@ def fake_reference(case):
                      switch_times=(1.0,))
 
 
-def fake_measure(case, method, repeats=1, miss_tol=1e-6):
+def fake_measure(case, method, repeats=1, miss_tol=1e-6, time_limit_s=None):
     """N = 20: a Measurement as the search gives it, on the reference; otherwise a build error."""
     if method.N != 20:
         return Measurement(success=False, status="build_error", message="build error: a stand-in")
@@ -271,7 +271,7 @@ def test_concurrent_writers_run_each_pair_once(tmp_path, fake, monkeypatch):
     path.write_text(SUITE.replace("kappa = [1.0, 0.5]", "kappa = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0]"))
     the_suite, measured = suite.load(path), []
 
-    def slow(case, method, repeats=1, miss_tol=1e-6):
+    def slow(case, method, repeats=1, miss_tol=1e-6, time_limit_s=None):
         measured.append((case.key, method.key))
         time.sleep(0.02)
         return fake_measure(case, method)

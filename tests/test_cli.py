@@ -228,7 +228,9 @@ def test_sigint_is_honoured_within_two_seconds(args, started, wait, tmp_path):
     import time
 
     proc = subprocess.Popen([sys.executable, "-m", "ocp.cli", *args, *(["--out", str(tmp_path)] if started else [])],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path,
+                            # SIGINT as a terminal delivers it, even under a background job that ignores it
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     if started:
         assert proc.stderr.readline().startswith(started)
     time.sleep(wait)

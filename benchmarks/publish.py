@@ -191,7 +191,8 @@ def bench(commit, jobs):
 def standard(commit, jobs):
     record, tables = run_suite("standard", "standard", commit, jobs)
     counts = ["| outcome | runs |", "| --- | --- |"] + [f"| {k} | {n} |" for k, n in tables["outcomes"].items()]
-    replace_block(ROOT / "benchmarks" / "README.md", "standard-outcomes", "\n".join(counts))
+    replace_block(ROOT / "benchmarks" / "README.md", "standard-outcomes",
+                  "\n".join(counts) + f"\n\n(`{record['command']}` at commit {commit[:12]})")
     return record
 
 

@@ -45,6 +45,7 @@ class SolveStatus(_Named):
     BEST_FOUND = 1
     DIRECT_ONLY = 2
     STOPPED = 3
+    DIRECT_DISCRETISATION = 4
     NO_EXTREMAL = -1
     NOT_VERIFIED = -2
     DIRECT_FAILED = -3
@@ -59,6 +60,10 @@ STATUS_MESSAGES = {
     SolveStatus.DIRECT_ONLY: "the direct transcription's answer, its control verified by re-simulation; not compared "
                              "with the extremals, so optimality is unknown",
     SolveStatus.STOPPED: "stopped at the time limit: the best extremal found so far, not proven optimal",
+    SolveStatus.DIRECT_DISCRETISATION: "the direct transcription's answer within its own discretisation error: its "
+                                       "control re-simulated misses the target by more than miss_tol, but no more "
+                                       "than miss_tol plus the transcription's estimate of its integration error; "
+                                       "not compared with the extremals, so optimality is unknown",
     SolveStatus.NO_EXTREMAL: "no extremal reaches the target set before the largest horizon",
     SolveStatus.NOT_VERIFIED: "the best extremal misses the target when re-simulated independently",
     SolveStatus.DIRECT_FAILED: "the direct transcription found no verified answer (and no search was asked for)",
@@ -408,7 +413,7 @@ class Solution:
         d = self.direct
         head = f"direct: {direct_method(d.method)}: {d.message}"
         n = d.structure.n_switches
-        if d.success:
+        if d.lands_on_target:
             head += (f"; T = {self._direct_T()}, {n} switch{'es' if n != 1 else ''}, re-simulated miss {order(d.resim_miss)}")
         elif d.converged:
             head += f" by {order(d.resim_miss)} (more than {order(d.miss_tol)}): not a transfer, no time is claimed"

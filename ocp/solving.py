@@ -12,7 +12,8 @@
                                answer's too, when it is the answer)
     classification             the direct answer against the search's (`ocp.result.DirectClass`)
 
-With `search=False` the direct answer alone is returned: `optimal` is then unknown.
+With `search=False` the direct answer alone is returned (verified, or a discretisation result: status
+DIRECT_DISCRETISATION): `optimal` is then unknown.
 """
 
 import math
@@ -133,8 +134,9 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
                                     direct_layer.MISS_TOL if miss_tol is None else miss_tol, trusted, progress)
     direct_time = time.perf_counter() - start
     if not search:
-        status = SolveStatus.DIRECT_ONLY if direct.success else SolveStatus.DIRECT_FAILED
-        best = Answer.of_direct(direct) if direct.success else None
+        status = SolveStatus.DIRECT_ONLY if direct.success else \
+            SolveStatus.DIRECT_DISCRETISATION if direct.lands_on_target else SolveStatus.DIRECT_FAILED
+        best = Answer.of_direct(direct) if direct.lands_on_target else None
         return Solution(problem=problem, status=status, best=best, direct=direct,
                         resim_miss=direct.resim_miss if best else None,
                         crosscheck=_crosscheck(problem, best) if best else None,

@@ -71,7 +71,7 @@ def run_bench(args):
     suite = suite_module.load(args.suite)
     jobs = integer("jobs", args.jobs, f"an integer from 1 to {MAX_JOBS} (local worker processes)", 1, MAX_JOBS)
     part = shard_of(args.shard) if args.shard is not None else None
-    pairs = len(suite.pairs() if part is None else runner.shard(suite.pairs(), *part))
+    pairs = len(runner.pairs_of(suite, part))
     solves = pairs * suite.repeats
     if solves > CONFIRM_RUNS and not args.yes:
         raise InputError(f"suite {suite.name}: {pairs} pairs x {suite.repeats} repeats = {solves} "

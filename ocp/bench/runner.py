@@ -6,6 +6,7 @@
     score(measurement, reference)   T - T_ref and the outcome class (`ocp.bench.scoring`)
     run(suite, store, executor)     all of it, row by row into the store, with a progress line
     shard(pairs, index, count)      the index-th of count disjoint slices of the pairs (`--shard`)
+    pairs_of(suite, part)           the pairs a shard of a suite runs
 
 A direct method is classified against the search (`ocp.solving.classify`); the search itself is
 scored against the formula where one applies, else its optimum is the reference of its own case
@@ -39,6 +40,11 @@ def shard(pairs, index, count):
     return [(c, m) for c, m in pairs if slice_of(c, m) == index]
 
 
+def pairs_of(suite, part=None):
+    """The pairs of `suite` run by its shard `part` = (index, count) (`shard`), all of them if None."""
+    return suite.pairs() if part is None else shard(suite.pairs(), *part)
+
+
 def _died(err):
     """What happened to a task whose workers all died (Dask's KilledWorker)."""
     return (f"each of the {err.allowed_failures + 1} Dask workers that ran it died (a crash or out of memory; "
@@ -56,7 +62,7 @@ def run(suite, store, pool, workers, executor_name, environment, part=None):
     notes = []
     if not peer.available() and any(m.transcription in PEERS for m in suite.methods):
         notes.append(peer.MISSING)
-    pairs = suite.pairs() if part is None else shard(suite.pairs(), *part)
+    pairs = pairs_of(suite, part)
     described = executor_name if part is None else f"{executor_name}; shard {part[0]}/{part[1]} of the pairs"
     session = store.open_session(suite.name, described, environment)
     try:

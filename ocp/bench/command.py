@@ -27,22 +27,8 @@ CONFIRM_RUNS = 5_000
 
 
 def add_commands(sub):
-    p = sub.add_parser("bench", help="run a benchmark suite (cases x methods) into a results store")
-    p.add_argument("suite", nargs="?", default="quick",
-                   help="a suite name in ocp/bench/suites/ (quick, full) or a TOML file; default quick")
-    p.add_argument("--store", help="the SQLite results file (default ocp-bench-SUITE.sqlite); "
-                                   "pairs already in it are not run again")
-    p.add_argument("--jobs", default="1", help="local worker processes, default 1")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run on the Dask distributed scheduler at ADDRESS instead: tcp://host:8786, tls://host:8786, "
-                        "or the file written by `dask scheduler --scheduler-file FILE`")
-    p.add_argument("--shard", metavar="I/N", help="run only the I-th of N disjoint slices of the suite's pairs "
-                                                  "(join the stores with ocp merge); default store "
-                                                  "ocp-bench-SUITE-shard-I-of-N.sqlite")
-    p.add_argument("--yes", action="store_true",
-                   help=f"run a suite of more than {CONFIRM_RUNS} solves (pairs x repeats)")
-    p.add_argument("--json", action="store_true", help="print one JSON object (summary, environment)")
-    p.set_defaults(run=run_bench)
+    sub.add_parser("bench", help="run a benchmark suite (cases x methods) into a results store",
+                   arguments=add_bench).set_defaults(run=run_bench)
     p = sub.add_parser("merge", help="join results stores (the shards of a suite) into one")
     p.add_argument("out", help="the merged SQLite results file (created, or added to)")
     p.add_argument("stores", nargs="+", metavar="store", help="a results file written by ocp bench")
@@ -59,6 +45,24 @@ def add_commands(sub):
     p.add_argument("--format", default="png", help="chart formats, comma separated (png, pdf, svg); default png")
     p.add_argument("--json", action="store_true", help="print the tables as one JSON object")
     p.set_defaults(run=run_report)
+
+
+def add_bench(p):
+    from ..core.parallel import ACCEPTED
+
+    p.add_argument("suite", nargs="?", default="quick",
+                   help="a suite name in ocp/bench/suites/ (quick, full) or a TOML file; default quick")
+    p.add_argument("--store", help="the SQLite results file (default ocp-bench-SUITE.sqlite); "
+                                   "pairs already in it are not run again")
+    p.add_argument("--jobs", default="1", help="local worker processes, default 1")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help=f"run on the Dask distributed scheduler at ADDRESS instead: {ACCEPTED}")
+    p.add_argument("--shard", metavar="I/N", help="run only the I-th of N disjoint slices of the suite's pairs "
+                                                  "(join the stores with ocp merge); default store "
+                                                  "ocp-bench-SUITE-shard-I-of-N.sqlite")
+    p.add_argument("--yes", action="store_true",
+                   help=f"run a suite of more than {CONFIRM_RUNS} solves (pairs x repeats)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (summary, environment)")
 
 
 def run_bench(args):

@@ -83,11 +83,14 @@ def run_synthesis(args):
     return 0
 
 def add_bifurcation(p):
+    from ..core.parallel import ACCEPTED
+
     p.add_argument("--case", action="append", metavar="KIND/READING/N",
                    help="only this case (repeatable), e.g. swing-up/circle/1; default: every located case")
     p.add_argument("--store", default="ocp-bifurcation.jsonl", help="results, a JSON line per value (resumed)")
     p.add_argument("--jobs", default="1", help="local worker processes, default 1")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="a Dask distributed scheduler instead of local processes")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help=f"run on the Dask distributed scheduler at ADDRESS instead: {ACCEPTED}")
     p.add_argument("--json", action="store_true", help="print the table as one JSON array")
     p.add_argument("--sweep", metavar="FILE", help="instead: compute (resumed) into FILE the sweep of the one --case "
                                                    "whose value is its fold and tie (the gaps above it), e.g. "

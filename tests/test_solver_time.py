@@ -77,6 +77,11 @@ def test_every_solver_declares_its_iteration_limit_and_the_users_wins():
     assert direct_layer.solvers.limits("sqpmethod", {"max_iter": 7}) == {"max_iter": 7}
     assert direct_layer.solvers.limits("ipopt", {}) == {"ipopt.max_iter": 3000}
     assert direct_layer.solvers.limits("ipopt", {}, 30) == {"ipopt.max_iter": 3000, "ipopt.max_cpu_time": 30.0}
+    assert direct_layer.solvers.limits("bonmin", {}) == {"bonmin.max_iter": 3000}
+    for name, entry in direct_layer.solvers.SOLVERS.items():
+        if entry.options:                       # a solver the suite drives (its allow-list is declared)
+            option, default = entry.iteration_limit
+            assert option in entry.options and default >= 1, name
 
 
 def test_a_converged_answer_within_the_transcriptions_accuracy_is_a_discretisation_result():

@@ -350,7 +350,7 @@ SOLVERS = {
     "bonmin": Solver(
         quiet={"bonmin.print_level": 0},
         options={"bonmin.tol": POSITIVE, "bonmin.print_level": Integer(0, 12), "bonmin.max_iter": COUNT},
-        fair={"bonmin.tol": TOL},
+        fair={"bonmin.tol": TOL}, iteration_limit=("bonmin.max_iter", 3000),
         why="no integer variables: Bonmin's NLP solver (IPOPT with MUMPS) at the common tolerance"),
     "alpaqa": Solver(),
     "qrsqp": Solver(options={"max_iter": COUNT, "min_iter": COUNT, "max_iter_ls": COUNT, "tol_pr": POSITIVE,

@@ -24,7 +24,7 @@ from ..core.files import replacing
 from ..core.parallel import Progress, SerialExecutor, drain
 from ..direct import MISS_TOL
 from .measurement import measure
-from .outcomes import OUTCOMES
+from .outcomes import OUTCOMES, Outcome
 from .reference import reference
 from .report import reason, slug
 from .scoring import score
@@ -80,7 +80,7 @@ def _run(kind, kappa, x0, axes, method, cases, pool, workers, progress):
         return f"{cases[i].label}: {name}"
 
     drain(pool, workers, [(cell, (c, method), i) for i, c in enumerate(cases)], handle, progress,
-          label=lambda i: cases[i].label)
+          label=lambda i: cases[i].label, lost=lambda i, what: (str(Outcome.SOLVER_ERROR), None, None, what))
     shape = tuple(len(v) for v in axes.values())
     return FailureMap(kind, method.to_dict(), method.label, kappa, x0, axes, outcome.reshape(shape), T.reshape(shape),
                       T_ref.reshape(shape), reasons.astype(str).reshape(shape), time.perf_counter() - start)

@@ -45,12 +45,6 @@ def pairs_of(suite, part=None):
     return suite.pairs() if part is None else shard(suite.pairs(), *part)
 
 
-def _died(err):
-    """What happened to a task whose workers all died (Dask's KilledWorker)."""
-    return (f"each of the {err.allowed_failures + 1} Dask workers that ran it died (a crash or out of memory; "
-            f"the scheduler's distributed.scheduler.allowed-failures = {err.allowed_failures})")
-
-
 def run(suite, store, pool, workers, executor_name, environment, part=None):
     """Run every pair of `suite` (of its shard `part` = (index, count) if given: `shard`) not yet in
     `store` with the suite's settings (references first, of those pairs' problems), storing rows as
@@ -88,7 +82,7 @@ def _run(suite, pairs, store, pool, workers, executor_name, session, notes):
     if needed:
         drain(pool, workers, [(reference, (first_case[k],), k) for k in needed], add_reference,
               Progress(len(needed), "references"), label=lambda k: first_case[k].label,
-              lost=lambda k, err: Reference(problem=k, T=None, T_error=None, source=f"none: {_died(err)}"))
+              lost=lambda k, what: Reference(problem=k, T=None, T_error=None, source=f"none: {what}"))
     settings = suite.settings_key
     done = store.done(settings)
     todo = [(c, m) for c, m in pairs if (c.key, m.key) not in done
@@ -121,8 +115,8 @@ def _run(suite, pairs, store, pool, workers, executor_name, session, notes):
 
     if todo:
         drain(pool, workers, claimed(), add_result, progress, label=lambda c: f"{c[0].label} | {c[1].label}",
-              lost=lambda c, err: Measurement(success=False, status="solver_error",
-                                              message=f"solver error: {_died(err)}"))
+              lost=lambda c, what: Measurement(success=False, status="solver_error",
+                                               message=f"solver error: {what}"))
     if skipped["claimed"]:
         notes.append(f"{skipped['claimed']} pairs were being run by another ocp bench on this store and were left "
                      f"to it; the same command, once it has ended, shows them")

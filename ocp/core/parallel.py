@@ -6,14 +6,17 @@ loop that feeds it, and a progress line.
                                      (workers end with their parent: `die_with_parent`), or Dask
                                      (`scheduler_address`: tcp:// or tls://, or a scheduler file)
     drain(pool, workers, tasks, ...) tasks submitted at most 2 per worker, each handled as it
-                                     finishes (not in submission order); a task whose Dask workers
-                                     all died running it (`lost_worker`) handed to `lost`
+                                     finishes (not in submission order); a task whose workers all
+                                     died running it (`lost_worker`: Dask's, or a local one's, told
+                                     apart by running the tasks then in flight again one at a time)
+                                     handed to `lost`
     Progress(total, what)            a line on stderr from the first second: done/total, elapsed,
                                      an estimate of what is left, and what is running now
     timing_note(workers, others)     how a row was timed (alone, in parallel, beside other sessions)
 """
 
 import concurrent.futures as cf
+from concurrent.futures.process import BrokenProcessPool
 import contextlib
 import ctypes
 import gc
@@ -141,8 +144,32 @@ def executor(jobs=1, scheduler=None):
     elif jobs == 1:
         yield SerialExecutor(), 1, "serial (this process)"
     else:
-        with cf.ProcessPoolExecutor(jobs, initializer=die_with_parent, initargs=(os.getpid(),)) as pool:
+        with LocalPool(jobs) as pool:
             yield pool, jobs, f"{jobs} local worker processes"
+
+
+class LocalPool(cf.Executor):
+    """`jobs` local worker processes that end with their parent (`die_with_parent`). When one dies
+    (a crash, out of memory, a signal), every future of the pool fails with BrokenProcessPool;
+    `renew` replaces the pool (and `drain` runs each task then in flight again, one at a time, so
+    that a task whose worker dies is told apart from those that only shared the pool with it)."""
+
+    def __init__(self, jobs):
+        self.jobs = jobs
+        self._pool = self._new()
+
+    def _new(self):
+        return cf.ProcessPoolExecutor(self.jobs, initializer=die_with_parent, initargs=(os.getpid(),))
+
+    def submit(self, fn, /, *args, **kwargs):
+        return self._pool.submit(fn, *args, **kwargs)
+
+    def renew(self):
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        self._pool = self._new()
+
+    def shutdown(self, wait=True, *, cancel_futures=False):
+        self._pool.shutdown(wait=wait, cancel_futures=cancel_futures)
 
 
 def process_alive(pid):
@@ -236,48 +263,76 @@ class Progress:
 def drain(pool, workers, tasks, handle, progress, label=None, lost=None):
     """Submit tasks (fn, args, context), at most 2 per worker in flight; handle(context, result) each
     as it completes, in the order they finish; `label(context)` names a running task on the
-    progress line. A task whose workers all died running it (`lost_worker`: Dask runs a task again
+    progress line. A task whose workers all died running it is handled with `lost(context, what)`
+    as its result, `what` saying how (`lost_worker`; raised without `lost`): Dask runs a task again
     elsewhere when its worker dies, and gives up after `distributed.scheduler.allowed-failures`
-    deaths) is handled with `lost(context, err)` as its result (raised without `lost`). An
-    interruption cancels what has not started; handled rows stay handled."""
-    tasks, pending, submitting = iter(tasks), {}, []
+    deaths; a `LocalPool` whose worker died is renewed, and the tasks then in flight run again one
+    at a time, so that a task whose worker dies while it runs alone is the one lost. An interruption
+    cancels what has not started; handled rows stay handled."""
+    tasks, pending, submitting, suspects = iter(tasks), {}, [], []
     progress.begin(lambda: _running(pending, submitting, label) if label else ())
     try:
         while True:
-            for fn, args, context in tasks:
-                submitting.append(context)          # a serial executor runs it inside submit
-                pending[pool.submit(fn, *args)] = context
-                submitting.clear()
-                if len(pending) >= 2 * workers:
-                    break
+            if suspects:                            # after a local worker's death: one at a time
+                if not pending:
+                    fn, args, context = suspects.pop(0)
+                    pending[pool.submit(fn, *args)] = (fn, args, context, True)
+            else:
+                for fn, args, context in tasks:
+                    submitting.append(context)      # a serial executor runs it inside submit
+                    pending[pool.submit(fn, *args)] = (fn, args, context, False)
+                    submitting.clear()
+                    if len(pending) >= 2 * workers:
+                        break
             if not pending:
                 return
             done, _ = cf.wait(pending, return_when=cf.FIRST_COMPLETED)
+            broken = False
             for future in [f for f in pending if f in done]:      # those done at once: in submission order
-                context = pending.pop(future)
+                fn, args, context, alone = pending.pop(future)
                 try:
                     result = future.result()
                 except Exception as err:
-                    if lost is None or not lost_worker(err):
+                    what = lost_worker(err, alone)
+                    if lost is None or what is None:
                         raise
-                    result = lost(context, err)
+                    broken = broken or isinstance(err, BrokenProcessPool)
+                    if what == SUSPECT:
+                        suspects.append((fn, args, context))
+                        continue
+                    result = lost(context, what)
                 progress.step(handle(context, result))
+            if broken:                              # the pool's other tasks fail with it: suspects too
+                suspects += [(fn, args, context) for fn, args, context, _ in pending.values()]
+                pending.clear()
+                pool.renew()
     finally:
         progress.end()
         for future in pending:
             future.cancel()
 
 
-def lost_worker(err):
-    """Whether `err` says that every worker which ran a task died (Dask's KilledWorker)."""
+#: `lost_worker`'s word for a task in flight beside others in a local pool when one of its workers died
+SUSPECT = "suspect"
+
+
+def lost_worker(err, alone=True):
+    """How the workers running a task died, in words, if `err` says they did (else None): Dask's
+    KilledWorker (every worker that ran it died), or a local pool broken by the death of a worker
+    (BrokenProcessPool): the task's own death if it ran `alone`, else SUSPECT (it shared the pool)."""
+    if isinstance(err, BrokenProcessPool):
+        return "the local worker process running it died (a crash, out of memory or a signal)" if alone else SUSPECT
     distributed = sys.modules.get("distributed")
-    return distributed is not None and isinstance(err, distributed.KilledWorker)
+    if distributed is not None and isinstance(err, distributed.KilledWorker):
+        return (f"each of the {err.allowed_failures + 1} Dask workers that ran it died (a crash or out of memory; "
+                f"the scheduler's distributed.scheduler.allowed-failures = {err.allowed_failures})")
+    return None
 
 
 def _running(pending, submitting, label):
     """The labels of the tasks running now: those their executor marks running (a process pool;
     Dask marks none: then every one not done), and the one being submitted to a serial executor."""
-    items = list(pending.items())
+    items = [(f, task[2]) for f, task in list(pending.items())]
     running = [c for f, c in items if f.running()] or [c for f, c in items if not f.done()]
     return [label(c) for c in running + list(submitting)]
 

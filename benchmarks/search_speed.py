@@ -167,7 +167,7 @@ def kappa_table(repeats, chart):
             ax.set_xlabel("kappa")
             ax.set_ylabel("seconds (warm)")
             ax.set_title("cost of the minimum time against kappa, standard starts")
-            ax.legend(loc="lower left")             # the corner the curves leave empty (slow small kappa, high)
+            ax.legend(loc="lower left")             # empty: at small kappa the search costs most
             paths = plotting.save(fig, Path(chart) / "search_cost", formats=("png",))
         print(f"\n![cost against kappa]({paths[0]})")
 

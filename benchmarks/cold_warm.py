@@ -7,8 +7,7 @@ cold   every built object forgotten before each run (`ocp.core.cache.clear()`: t
        functions and integrators are built in the timed call), median of `repeats`
 warm   the same call again with everything built, median of `repeats`
 first  the very first call of its kind in this process, once: it also loads what no cache clear
-       can unload (the CasADi plugins' shared libraries; numba's compiled Taylor kernels, read from
-       their on-disk cache, or compiled there on the first run after an install)
+       can unload (the CasADi plugins' shared libraries)
 
 Methods: the direct method alone (multiple shooting, rk4 M = 4, IPOPT, the default three starts)
 at N = 100 and 400, and `ocp.solve` (the complete search, verification, certificate, cross-check).

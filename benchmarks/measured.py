@@ -8,7 +8,9 @@ the key of a published result, as asv keys a benchmark's result by its source: t
 file's syntax tree without its docstrings and without the `help`, `description` and `epilog`
 texts of the command line, so that a comment, a docstring or a help text changed leaves the
 published results current, and any change to what runs makes them stale
-(tests/test_published.py). Package data files (suites, papers' values, the reference set) are
+(tests/test_published.py). A compiled extension imported (a .so) is keyed by its C sources and
+headers, as pyproject.toml's `ext-modules` declares them, each hashed whole: a change to the C
+code makes the results stale. Package data files (suites, papers' values, the reference set) are
 hashed whole (`data_hashes`): every part depends on them.
 """
 
@@ -19,6 +21,7 @@ import importlib.util
 import json
 import runpy
 import sys
+import tomllib
 from pathlib import Path
 
 HERE = Path(__file__).resolve()       # read now: a script run as __main__ replaces this module's globals
@@ -48,7 +51,10 @@ class _Texts(ast.NodeTransformer):
 
 
 def code_hash(path):
-    """sha256 of the file's syntax tree, docstrings and help texts removed (16 hex digits)."""
+    """sha256 of the file's syntax tree, docstrings and help texts removed (16 hex digits); of its
+    bytes for a file not in Python (a C source or header)."""
+    if Path(path).suffix != ".py":
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
     tree = _Texts().visit(ast.parse(Path(path).read_text(encoding="utf-8")))
     return hashlib.sha256(ast.dump(tree, include_attributes=False).encode()).hexdigest()[:16]
 
@@ -60,15 +66,25 @@ def data_hashes():
             if not str(p.relative_to(ROOT)).startswith(WRITTEN)}
 
 
+def extension_sources():
+    """{module name: [its C sources and headers]} of the compiled extensions in pyproject.toml."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    return {e["name"]: e["sources"] + e.get("depends", []) for e in config["tool"]["setuptools"].get("ext-modules", [])}
+
+
 def imported_sources():
-    """The project's .py files imported by this process so far (relative paths)."""
-    found = set()
-    for module in list(sys.modules.values()):
+    """The project's .py files imported by this process so far, and the C sources of its compiled
+    extensions imported (relative paths)."""
+    found, extensions = set(), extension_sources()
+    for name, module in list(sys.modules.items()):
         path = getattr(module, "__file__", None)
-        if path and path.endswith(".py"):
-            path = Path(path).resolve()
-            if path.is_relative_to(ROOT) and not path.is_relative_to(ROOT / "tests") and path != HERE:
-                found.add(str(path.relative_to(ROOT)))
+        if not path or not Path(path).resolve().is_relative_to(ROOT):
+            continue
+        path = Path(path).resolve()
+        if path.suffix == ".py" and not path.is_relative_to(ROOT / "tests") and path != HERE:
+            found.add(str(path.relative_to(ROOT)))
+        elif name in extensions:
+            found.update(extensions[name])
     return sorted(found)
 
 

@@ -91,3 +91,16 @@ def test_a_docstring_or_a_help_text_is_not_code(tmp_path):
     changed = tmp_path / "c.py"
     changed.write_text('def f(p):\n    p.add_argument("--n", default=2, help="new")\n    return 1\n')
     assert measured.code_hash(before) == measured.code_hash(after) != measured.code_hash(changed)
+
+
+def test_a_compiled_extension_is_keyed_by_its_c_sources(tmp_path):
+    """An imported extension (a .so) records its C source and headers (pyproject.toml's ext-modules),
+    hashed by their bytes: a change to the C code makes the parts that ran it stale."""
+    from ocp.indirect import taylor  # noqa: F401 (imports the compiled ocp.indirect._taylor)
+    measured = _measured()
+    assert {"ocp/indirect/_taylor.c", "ocp/_arrays.h"} <= set(measured.imported_sources())
+    source = tmp_path / "k.c"
+    source.write_bytes(b"double f(double x) { return x; }\n")
+    before = measured.code_hash(source)
+    source.write_bytes(b"double f(double x) { return x; } \n")
+    assert measured.code_hash(source) != before

@@ -38,9 +38,18 @@ def _option(text):
         return key, value
 
 
+class _Shipped:
+    """The NLP solvers this CasADi build ships, as --solver's help shows them: found (CasADi imported,
+    its plugins loaded) only when the help is printed, not for every parse."""
+
+    def __str__(self):
+        from ..direct.solvers import available_solvers
+
+        return ", ".join(available_solvers())
+
+
 def add_arguments(p):
     from .. import direct
-    from ..direct.solvers import available_solvers
     from ..core.problem import KINDS
 
     p.add_argument("problem", help=f"one of: {', '.join(KINDS)}")
@@ -70,9 +79,10 @@ def add_arguments(p):
               for name in direct.settings()}
     add_settings(d, direct.settings(), notes={name: f"{', '.join(t)} only" for name, t in takers.items()
                                                if len(t) < len(direct.TRANSCRIPTIONS)})
-    d.add_argument("--solver", default=DEFAULTS["solver"],
-                   help=f"an NLP solver of ocp.direct.solvers that this CasADi build ships: "
-                        f"{', '.join(available_solvers())}; default {DEFAULTS['solver']}")
+    solver = d.add_argument("--solver", default=DEFAULTS["solver"],
+                            help=f"an NLP solver of ocp.direct.solvers that this CasADi build ships: "
+                                 f"%(shipped)s; default {DEFAULTS['solver']}")
+    solver.shipped = _Shipped()
     d.add_argument("--option", action="append", type=_option, default=[], metavar="KEY=VALUE",
                    help="an NLP solver option on its allow-list, typed (repeatable), e.g. ipopt.tol=1e-10")
     d.add_argument("--allow-unsafe-options", action="store_true",

@@ -4,10 +4,8 @@ of Finch's formulas), all cleared by one call.
 A cold timing clears them first (`clear()`): every CasADi object the suite builds is then built
 again (tests/test_cache.py fails on a memoised builder that is not registered here). What a cold
 timing in a running process still reuses, because no call can undo it: the shared libraries of
-the CasADi plugins (IPOPT, fatrop, ...) once loaded, and the compiled Taylor kernels of
-`ocp.indirect.taylor`, which numba compiles once and caches on disk (`cache=True`, in
-__pycache__ beside the module): the first process after an install or a change of that module
-compiles them (seconds), every later process loads them."""
+the CasADi plugins (IPOPT, fatrop, ...) once loaded. (The compiled kernels of the search and the
+synthesis are C extensions, built by the install: nothing is compiled at run time.)"""
 
 import functools
 

@@ -1,4 +1,5 @@
-"""Root finding on an interval, without importing scipy (the hot paths of the suite stay light)."""
+"""Root finding and minimisation on an interval, without importing scipy (the hot paths of the suite
+stay light: importing scipy.optimize costs more than a whole solve)."""
 
 import math
 
@@ -45,3 +46,68 @@ def brent(f, a, b, xtol=0.0, fa=None, fb=None):
         b += d if abs(d) > tol else math.copysign(tol, half)
         fb = f(b)
     return b
+
+
+def minimum(f, a, b, xtol):
+    """(x, f(x)) at a minimum of f on [a, b], x to xtol + sqrt(eps) |x|: Brent's bounded
+    minimisation (golden sections and parabolic steps; Brent 1973, procedure localmin, as
+    Forsythe, Malcolm and Moler's fmin), operation for operation scipy's
+    `minimize_scalar(method="bounded")` (scipy 1.17, `_minimize_scalar_bounded`, maxiter 500), so
+    that its answer is bit-identical to scipy's."""
+    sqrt_eps, golden_mean = math.sqrt(2.2e-16), 0.5 * (3.0 - math.sqrt(5.0))
+    fulc = a + golden_mean * (b - a)
+    nfc = xf = fulc
+    rat = e = 0.0
+    fx = ffulc = fnfc = f(xf)
+    xm = 0.5 * (a + b)
+    tol1 = sqrt_eps * abs(xf) + xtol / 3.0
+    tol2 = 2.0 * tol1
+    for _ in range(499):
+        if not abs(xf - xm) > tol2 - 0.5 * (b - a):
+            break
+        golden = True
+        if abs(e) > tol1:
+            golden = False
+            r = (xf - nfc) * (fx - ffulc)
+            q = (xf - fulc) * (fx - fnfc)
+            p = (xf - fulc) * q - (xf - nfc) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            r, e = e, rat
+            if abs(p) < abs(0.5 * q * r) and q * (a - xf) < p < q * (b - xf):
+                rat = (p + 0.0) / q
+                x = xf + rat
+                if x - a < tol2 or b - x < tol2:
+                    rat = tol1 * (_sign(xm - xf) + (xm - xf == 0))
+            else:
+                golden = True
+        if golden:
+            e = a - xf if xf >= xm else b - xf
+            rat = golden_mean * e
+        x = xf + (_sign(rat) + (rat == 0)) * max(abs(rat), tol1)
+        fu = f(x)
+        if fu <= fx:
+            if x >= xf:
+                a = xf
+            else:
+                b = xf
+            fulc, ffulc, nfc, fnfc, xf, fx = nfc, fnfc, xf, fx, x, fu
+        else:
+            if x < xf:
+                a = x
+            else:
+                b = x
+            if fu <= fnfc or nfc == xf:
+                fulc, ffulc, nfc, fnfc = nfc, fnfc, x, fu
+            elif fu <= ffulc or fulc == xf or fulc == nfc:
+                fulc, ffulc = x, fu
+        xm = 0.5 * (a + b)
+        tol1 = sqrt_eps * abs(xf) + xtol / 3.0
+        tol2 = 2.0 * tol1
+    return xf, fx
+
+
+def _sign(v):
+    return 1.0 if v > 0 else (-1.0 if v < 0 else 0.0)

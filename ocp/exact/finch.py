@@ -30,7 +30,7 @@ import numpy as np
 
 from ..core.cache import cached
 from ..core.problem import KINDS
-from ..core.roots import brent
+from ..core.roots import brent, minimum
 
 EPS = np.finfo(float).eps
 
@@ -289,11 +289,8 @@ def _steepest(kappa):
     interval = _feasible_rhos(kappa)
     if interval is None:
         return None
-    from scipy.optimize import minimize_scalar
-
-    peak = minimize_scalar(lambda r: -stationarity(r, kappa)[0], bounds=interval, method="bounded",
-                           options={"xatol": 1e-10})
-    return peak.x, -peak.fun
+    x, value = minimum(lambda r: -stationarity(r, kappa)[0], *interval, 1e-10)
+    return x, -value
 
 
 def _two_switch_at(rho, kappa):

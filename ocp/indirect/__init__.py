@@ -1,6 +1,6 @@
 """The indirect side: Pontryagin extremals of the minimum-time problem.
 
-`taylor` integrates the state-costate system (compiled, numba), `search` scans the whole
+`taylor` integrates the state-costate system (compiled: C), `search` scans the whole
 one-parameter family of extremals from a start for every arrival at the target set, and
 `certificate` checks an extremal by independent means (first- and second-order conditions).
 """

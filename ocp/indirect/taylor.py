@@ -1,4 +1,4 @@
-"""Compiled Taylor-series integration of the pendulum's state and costate (numba).
+"""Compiled Taylor-series integration of the pendulum's state and costate (C: `_taylor.c`).
 
 The state-costate system of minimum time (Pontryagin, maximum form, `ocp.core.model`):
 
@@ -18,15 +18,24 @@ the same events, found at a fraction of the cost).
 Why no zero is missed: a zero of p2 is always transversal on a normal extremal (p2 = 0 and H = 0
 give p1*omega = 1, so p2' = -p1 != 0), and a zero of omega could only be tangential at an
 equilibrium of the arc's vector field, which a trajectory does not reach in finite time.
+
+The variations dy = dy/dphi along an extremal (`extremal_variations`; phi a parameter of the start)
+solve the linearised system, integrated by the same series and steps (the step chosen from y alone):
+
+    dtheta' = domega,   domega' = -cos(theta) dtheta,   dp1' = cos(theta) dp2 - sin(theta) p2 dtheta,
+    dp2' = -dp1;
+
+the normalisation p <- p/n (n = |p|) carries dp <- dp/n - p (p . dp)/n^3; at a switch (p2 = 0 at
+t_s) dt_s/dphi = dp2/p1 and domega jumps by kappa (u_old - u_new) dt_s/dphi; at a turning point
+(omega = 0 at t_e) dt_e/dphi = -domega/(kappa u - sin(theta)) and dtheta_e/dphi = dtheta.
 """
 
-import math
-
-import numba as nb
 import numpy as np
 
+from . import _taylor
+
 #: samples per step where sign changes are looked for
-SUBSTEPS = 8
+SUBSTEPS = _taylor.SUBSTEPS
 #: (tol, order) of the scan, of the precise solution, and of the checks that estimate its error
 #: (CHECK: a lower accuracy; PRECISE_ALT: as accurate, another order and step, another rounding)
 SCAN = (1e-9, 11)
@@ -35,195 +44,44 @@ PRECISE_ALT = (3e-17, 24)
 CHECK = (1e-12, 16)
 
 
-@nb.njit(cache=True)
-def _series(y, u, kappa, K, c):
-    """c[k, i]: the k-th Taylor coefficient (k = 0..K) of y_i, y = (theta, omega, p1, p2), under u."""
-    s = np.empty(K + 1)
-    co = np.empty(K + 1)
-    for i in range(4):
-        c[0, i] = y[i]
-    s[0] = math.sin(y[0])
-    co[0] = math.cos(y[0])
-    for k in range(K):
-        k1 = k + 1
-        c[k1, 0] = c[k, 1] / k1
-        c[k1, 1] = ((kappa * u if k == 0 else 0.0) - s[k]) / k1
-        acc = 0.0
-        for j in range(k1):
-            acc += c[j, 3] * co[k - j]
-        c[k1, 2] = acc / k1
-        c[k1, 3] = -c[k, 2] / k1
-        ss = 0.0
-        cc = 0.0
-        for j in range(1, k1 + 1):
-            jt = j * c[j, 0]
-            ss += jt * co[k1 - j]
-            cc += jt * s[k1 - j]
-        s[k1] = ss / k1
-        co[k1] = -cc / k1
-
-
-@nb.njit(cache=True)
-def _step(c, K, tol):
-    h = 1e300
-    for k in (K - 1, K):
-        m = 0.0
-        for i in range(4):
-            m = max(m, abs(c[k, i]))
-        if m > 0.0:
-            h = min(h, (tol / m) ** (1.0 / k))
-    return h * math.exp(-0.7 / (K - 1))
-
-
-@nb.njit(cache=True)
-def _at(c, K, i, tau):
-    v = c[K, i]
-    for k in range(K - 1, -1, -1):
-        v = v * tau + c[k, i]
-    return v
-
-
-@nb.njit(cache=True)
-def _slope(c, K, i, tau):
-    v = K * c[K, i]
-    for k in range(K - 1, 0, -1):
-        v = v * tau + k * c[k, i]
-    return v
-
-
-@nb.njit(cache=True)
-def _clear(c, K, i, h):
-    """Whether component i's polynomial keeps the sign of its value at 0 on [0, h] (h > 0 or < 0):
-    |c_0| > sum_k |c_k| |h|^k excludes every zero there (then no sign change need be looked for)."""
-    h = abs(h)
-    v = abs(c[K, i])
-    for k in range(K - 1, 0, -1):
-        v = v * h + abs(c[k, i])
-    return abs(c[0, i]) > v * h
-
-
-@nb.njit(cache=True)
-def _zero(c, K, i, a, b):
-    """The zero of component i's polynomial between a and b (values of opposite signs there):
-    Newton kept inside the shrinking bracket, bisection where it would leave it."""
-    fa = _at(c, K, i, a)
-    if fa == 0.0:
-        return a
-    x = 0.5 * (a + b)
-    for _ in range(200):
-        f = _at(c, K, i, x)
-        if f == 0.0:
-            return x
-        if (f > 0.0) == (fa > 0.0):
-            a, fa = x, f
-        else:
-            b = x
-        d = _slope(c, K, i, x)
-        xn = x - f / d if d != 0.0 else 0.5 * (a + b)
-        if not (min(a, b) < xn < max(a, b)):
-            xn = 0.5 * (a + b)
-        if abs(xn - x) <= 2e-16 * max(1.0, abs(x)) or a == b:
-            return xn
-        x = xn
-    return x
-
-
-@nb.njit(cache=True)
-def _normalise(y):
-    n = math.hypot(y[2], y[3])
-    if n > 0.0:
-        y[2] /= n
-        y[3] /= n
-
-
-@nb.njit(cache=True)
 def extremal(y0, kappa, u_start, duration, direction, tol, K, switches, events, sample_t, samples):
     """Integrate the extremal from y0 = (theta, omega, p1, p2) for `duration` (> 0) in time
-    `direction` (+1 forward, -1 backward), u = sign(p2), or u_start while p2 = 0.
+    `direction` (+1 forward, -1 backward), u = sign(p2), or u_start while p2 = 0, by the series of
+    order K at tolerance tol.
 
     Writes (as far as the arrays reach) switches[i] = (t, theta, omega, p1, p2) at each zero of p2
     (|p| = 1 at the step's start, p2 set to 0), events[i] = (t, theta, arc, index in arc, p1, p2)
     at each zero of omega, and
     samples[i] = (theta, omega, arc) at the elapsed times sample_t (ascending); t is the elapsed
     time |t - t0|. Returns (switch count, event count, final y with |p| = 1, final u, steps)."""
-    c = np.empty((K + 1, 4))
-    y = y0.copy()
-    _normalise(y)
-    u = u_start if y[3] == 0.0 else (1.0 if y[3] > 0.0 else -1.0)
-    t = 0.0
-    n_sw = 0
-    n_ev = 0
-    in_arc = 0
-    n_sample = 0
-    steps = 0
-    while t < duration:
-        steps += 1
-        _series(y, u, kappa, K, c)
-        h = min(_step(c, K, tol), duration - t)
-        stop = direction * h
-        switched = False
-        before = 0.0
-        for q in range(1, 0 if _clear(c, K, 3, stop) else SUBSTEPS + 1):
-            tq = stop * q / SUBSTEPS
-            if u * _at(c, K, 3, tq) < 0.0:
-                stop = _zero(c, K, 3, before, tq)
-                switched = True
-                break
-            before = tq
-        w0 = c[0, 1]
-        before = 0.0
-        for q in range(1, 0 if _clear(c, K, 1, stop) else SUBSTEPS + 1):
-            tq = stop * q / SUBSTEPS
-            w1 = _at(c, K, 1, tq)
-            if (w0 > 0.0 and w1 <= 0.0) or (w0 < 0.0 and w1 >= 0.0):
-                r = _zero(c, K, 1, before, tq) if w1 != 0.0 else tq
-                if n_ev < events.shape[0]:
-                    events[n_ev, 0] = t + abs(r)
-                    events[n_ev, 1] = _at(c, K, 0, r)
-                    events[n_ev, 2] = n_sw
-                    events[n_ev, 3] = in_arc
-                    events[n_ev, 4] = _at(c, K, 2, r)
-                    events[n_ev, 5] = _at(c, K, 3, r)
-                n_ev += 1
-                in_arc += 1
-            if w1 != 0.0:
-                w0 = w1
-            before = tq
-        while n_sample < sample_t.shape[0] and sample_t[n_sample] <= t + abs(stop):
-            tau = direction * (sample_t[n_sample] - t)
-            samples[n_sample, 0] = _at(c, K, 0, tau)
-            samples[n_sample, 1] = _at(c, K, 1, tau)
-            samples[n_sample, 2] = n_sw
-            n_sample += 1
-        for i in range(4):
-            y[i] = _at(c, K, i, stop)
-        t += abs(stop)
-        if switched:
-            y[3] = 0.0
-            if n_sw < switches.shape[0]:
-                switches[n_sw, 0] = t
-                for i in range(4):
-                    switches[n_sw, 1 + i] = y[i]
-            n_sw += 1
-            u = -u
-            in_arc = 0
-        _normalise(y)
+    y = np.array(y0, dtype=float)
+    n_sw, n_ev, u, steps = _taylor.extremal(y, kappa, u_start, duration, direction, tol, K, switches, events,
+                                            sample_t, samples)
     return n_sw, n_ev, y, u, steps
 
 
-@nb.njit(cache=True)
+def extremal_variations(y0, dy0, kappa, u_start, duration, direction, tol, K, switches, events):
+    """`extremal` with the variations dy = dy/dphi from dy0 (a fresh start at costate angle phi:
+    y0 = (theta0, omega0, cos phi, sin phi), dy0 = (0, 0, -sin phi, cos phi)); y, the switch and
+    event times are bit-identical to `extremal`'s.
+
+    Writes switches[i] = (t, theta, omega, p1, p2, ds_s/dphi) and events[i] = (t, theta, arc,
+    index in arc, p1, p2, dtheta_e/dphi, ds_e/dphi), ds/dphi = direction * dt/dphi the derivative
+    of the elapsed time. Returns (switch count, event count, final y with |p| = 1, final dy, final
+    u, steps)."""
+    y, dy = np.array(y0, dtype=float), np.array(dy0, dtype=float)
+    n_sw, n_ev, u, steps = _taylor.extremal_variations(y, dy, kappa, u_start, duration, direction, tol, K,
+                                                       switches, events)
+    return n_sw, n_ev, y, dy, u, steps
+
+
 def bang(x0, signs, durations, kappa, tol, K):
     """The state after the arcs u = signs[i] for durations[i] (>= 0), in order, from x0."""
-    c = np.empty((K + 1, 4))
-    y = np.zeros(4)
-    y[0] = x0[0]
-    y[1] = x0[1]
-    for a in range(signs.shape[0]):
-        t = 0.0
-        while t < durations[a]:
-            _series(y, signs[a], kappa, K, c)
-            h = min(_step(c, K, tol), durations[a] - t)
-            for i in range(2):
-                y[i] = _at(c, K, i, h)
-            t += h
-    return y[:2].copy()
+    x = np.array(x0[:2], dtype=float)
+    _taylor.bang(x, np.asarray(signs, dtype=float), np.asarray(durations, dtype=float), kappa, tol, K)
+    return x
+
+
+def _series(y, u, kappa, K, c):
+    """c[k, i]: the k-th Taylor coefficient (k = 0..K) of y_i, y = (theta, omega, p1, p2), under u."""
+    _taylor.series(np.asarray(y, dtype=float), u, kappa, K, c)

@@ -125,11 +125,10 @@ def labels(families, hardness):
 
 
 def versions():
-    import numba
     import numpy
     import scipy
     return {"python": platform.python_version(), "numpy": numpy.__version__, "scipy": scipy.__version__,
-            "numba": numba.__version__, "mpmath": mpmath.__version__}
+            "mpmath": mpmath.__version__}
 
 
 def compute(instance):

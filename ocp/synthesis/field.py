@@ -29,10 +29,10 @@ import math
 import time
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 
 from ..indirect import taylor
+from . import _field
 
 #: a quadrilateral of the field wider than this many grid cells is refined, not drawn
 MAX_CELLS = 3.0
@@ -71,69 +71,15 @@ class Window:
         return ((self.theta_hi - self.theta_lo) / (self.n_theta - 1), (self.omega_hi - self.omega_lo) / (self.n_omega - 1))
 
 
-@nb.njit(cache=True)
-def _triangle(V, N, P, B, grid, a, b, c, ident, branch):
-    """Draw the triangle of vertices (theta, omega, s, n) a, b, c into V (least s), N, P (the
-    strip's interval of final costate angles, ident = (lo, hi)), B (the branch)."""
-    x0, dx, y0, dy = grid
-    nx, ny = V.shape
-    xmin, xmax = min(a[0], b[0], c[0]), max(a[0], b[0], c[0])
-    ymin, ymax = min(a[1], b[1], c[1]), max(a[1], b[1], c[1])
-    i0, i1 = max(0, int(math.ceil((xmin - x0) / dx))), min(nx - 1, int(math.floor((xmax - x0) / dx)))
-    j0, j1 = max(0, int(math.ceil((ymin - y0) / dy))), min(ny - 1, int(math.floor((ymax - y0) / dy)))
-    det = (b[1] - c[1]) * (a[0] - c[0]) + (c[0] - b[0]) * (a[1] - c[1])
-    if det == 0.0:
-        return
-    for i in range(i0, i1 + 1):
-        x = x0 + i * dx
-        for j in range(j0, j1 + 1):
-            y = y0 + j * dy
-            l1 = ((b[1] - c[1]) * (x - c[0]) + (c[0] - b[0]) * (y - c[1])) / det
-            l2 = ((c[1] - a[1]) * (x - c[0]) + (a[0] - c[0]) * (y - c[1])) / det
-            l3 = 1.0 - l1 - l2
-            if l1 < -1e-12 or l2 < -1e-12 or l3 < -1e-12:
-                continue
-            s = l1 * a[2] + l2 * b[2] + l3 * c[2]
-            if s < V[i, j]:
-                V[i, j] = s
-                N[i, j] = a[3] if (l1 >= l2 and l1 >= l3) else (b[3] if l2 >= l3 else c[3])
-                P[i, j, 0] = ident[0]
-                P[i, j, 1] = ident[1]
-                B[i, j] = branch
-
-
-@nb.njit(cache=True)
 def _strip(V, N, P, B, grid, A, C, ts, ident, circle, max_cells, wide):
     """Draw the strip between the sampled extremals A and C (rows (theta, omega, arcs) at times ts),
-    shifted by every 2 pi k that brings it into the grid on the circle (k = 0 on the plane);
-    wide[j] = True where the quadrilateral from time j is too wide to draw. Returns the count."""
-    x0, dx, y0, dy = grid
-    x1 = x0 + dx * (V.shape[0] - 1)
-    count = 0
-    for j in range(ts.shape[0] - 1):
-        p, q, r, s_ = A[j], C[j], C[j + 1], A[j + 1]
-        spread = max(abs(p[0] - q[0]) / dx, abs(p[1] - q[1]) / dy, abs(s_[0] - r[0]) / dx, abs(s_[1] - r[1]) / dy)
-        wide[j] = spread > max_cells
-        if wide[j]:
-            count += 1
-            continue
-        va = np.array([p[0], p[1], ts[j], p[2]])
-        vb = np.array([q[0], q[1], ts[j], q[2]])
-        vc = np.array([r[0], r[1], ts[j + 1], r[2]])
-        vd = np.array([s_[0], s_[1], ts[j + 1], s_[2]])
-        lo, hi = min(p[0], q[0], r[0], s_[0]), max(p[0], q[0], r[0], s_[0])
-        k0, k1 = 0, 0
-        if circle:
-            k0, k1 = int(math.ceil((x0 - hi) / (2 * math.pi))), int(math.floor((x1 - lo) / (2 * math.pi)))
-        for k in range(k0, k1 + 1):
-            sh = 2 * math.pi * k
-            va[0] = p[0] + sh
-            vb[0] = q[0] + sh
-            vc[0] = r[0] + sh
-            vd[0] = s_[0] + sh
-            _triangle(V, N, P, B, grid, va, vb, vc, ident, k)
-            _triangle(V, N, P, B, grid, va, vc, vd, ident, k)
-    return count
+    shifted by every 2 pi k that brings it into the grid on the circle (k = 0 on the plane), as the
+    two triangles of each quadrilateral of neighbouring times, into V (least time-to-go s,
+    interpolated linearly on a triangle), N (switch count of the nearest vertex), P (the strip's
+    interval of final costate angles, ident = (lo, hi)), B (the branch k); grid = (theta_lo,
+    dtheta, omega_lo, domega). wide[j] = True where the quadrilateral from time j spans more than
+    max_cells cells (not drawn). Returns their count. Compiled (`_field.c`)."""
+    return _field.strip(V, N, P, B, grid, A, C, ts, ident, circle, max_cells, wide)
 
 
 @dataclass(frozen=True)
@@ -258,45 +204,12 @@ def _cells(grid, window, theta, omega, circle):
     return out
 
 
-@nb.njit(cache=True)
 def _undominated(V, grid, ra, rb, ts, wide, circle):
     """Whether a wide quadrilateral may be optimal somewhere in the grid, so that it must be
     refined: a corner lies in the grid (at any theta + 2 pi k on the circle) where no value below
     its time (minus DOMINATED) is drawn yet, or the quadrilateral overlaps the grid with a corner
-    outside it (its inside is not seen from its corners)."""
-    x0, dx, y0, dy = grid
-    nx, ny = V.shape
-    x1, y1 = x0 + dx * (nx - 1), y0 + dy * (ny - 1)
-    for j in range(wide.shape[0]):
-        if not wide[j]:
-            continue
-        xs = np.array([ra[j][0], rb[j][0], ra[j + 1][0], rb[j + 1][0]])
-        ys = np.array([ra[j][1], rb[j][1], ra[j + 1][1], rb[j + 1][1]])
-        if ys.max() >= y0 and ys.min() <= y1:                 # it overlaps the grid's rows
-            if ys.min() < y0 or ys.max() > y1:
-                return True
-            lo, hi = xs.min(), xs.max()
-            k0, k1 = 0, 0
-            if circle:
-                k0, k1 = int(math.ceil((x0 - hi) / (2 * math.pi))), int(math.floor((x1 - lo) / (2 * math.pi)))
-            for k in range(k0, k1 + 1):
-                if lo + 2 * math.pi * k < x0 or hi + 2 * math.pi * k > x1:
-                    return True
-        for c in range(4):
-            row = (ra[j], rb[j], ra[j + 1], rb[j + 1])[c]
-            t = ts[j] if c < 2 else ts[j + 1]
-            jj = int(round((row[1] - y0) / dy))
-            if jj < 0 or jj >= ny:
-                continue
-            k0, k1 = 0, 0
-            if circle:
-                k0 = int(math.ceil((x0 - row[0]) / (2 * math.pi)))
-                k1 = int(math.floor((x0 + dx * (nx - 1) - row[0]) / (2 * math.pi)))
-            for k in range(k0, k1 + 1):
-                i = int(round((row[0] + 2 * math.pi * k - x0) / dx))
-                if 0 <= i < nx and not V[i, jj] < t - DOMINATED:
-                    return True
-    return False
+    outside it (its inside is not seen from its corners). Compiled (`_field.c`)."""
+    return _field.undominated(V, grid, ra, rb, ts, wide, circle, DOMINATED)
 
 
 def _optimal_switch_points(points, V, grid, window, circle):

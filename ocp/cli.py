@@ -168,7 +168,7 @@ def _main(argv):
               f"{printable(err.strerror)}", file=sys.stderr)
         _quiet_stdout()
         return 1
-    except Exception as err:         # an interrupt that a library turned into its own error (numba: SystemError)
+    except Exception as err:         # an interrupt that a library turned into its own error (e.g. SystemError)
         if not _interrupted(err):
             raise
         print("interrupted", file=sys.stderr)

@@ -217,7 +217,7 @@ def test_a_reader_that_stops_is_not_an_error():
 
 
 @pytest.mark.parametrize("args, started, wait", [
-    (["synthesis", "swing-up", "--kappa", "1", "--format", "png"], b"[1/1]", 2),     # Python and numba
+    (["synthesis", "swing-up", "--kappa", "1", "--format", "png"], b"[1/1]", 2),     # Python and the C kernels
     (["solve", "swing-up", "--kappa", "1", "--no-refine", "--N", "1500"], b"", 6),   # CasADi building a large NLP
 ])
 def test_sigint_is_honoured_within_two_seconds(args, started, wait, tmp_path):

@@ -192,8 +192,11 @@ def approach(rows, n_min=2):
             continue
         n, d = np.array(seq).T
         sign = math.copysign(1, d[0])
-        (slope, log_a), cov = np.polyfit(np.log(n), np.log(sign * d), 1, cov=len(seq) > 3)
-        se = np.sqrt(np.diag(cov)) if len(seq) > 3 else (math.nan, math.nan)
+        if len(seq) > 3:
+            (slope, log_a), cov = np.polyfit(np.log(n), np.log(sign * d), 1, cov=True)
+            se = np.sqrt(np.diag(cov))
+        else:
+            (slope, log_a), se = np.polyfit(np.log(n), np.log(sign * d), 1), (math.nan, math.nan)
         a = sign * math.exp(log_a)
         basis = np.vstack([n ** -1.5, n ** -2.5]).T
         ce = np.linalg.lstsq(basis, d, rcond=None)[0]

@@ -113,8 +113,9 @@ def test_the_sweeps_above_the_fold_and_tie_values_are_complete_and_positive():
     # the swing-up's kappa_7 = 0.131030664919 +- 2e-12 (ocp bifurcation --case swing-up/circle/7: the fold-and-tie
     # equations at PRECISE and CHECK; docs/bifurcation-limits.md section 2b)
     ("swing-up", 7, 0.131030664919, ((1, -1, 1, -1, 1, -1, 1, -1), 1), 2.40, 2.43),
-    # the damping's kappa_3 = 0.329196077600 +- 2e-12 (ocp bifurcation --case damping/circle/3 at commit 4720e46:
-    # 0.32919607760035763 at PRECISE, 0.32919607760036423 at CHECK; docs/bifurcation-limits.md section 2)
+    # the damping's kappa_3 = 0.329196077600 +- 2e-12 (ocp bifurcation --case damping/circle/3 at commit 9c385af:
+    # 0.32919607760035763 at PRECISE, 0.32919607760036423 at CHECK, the row in
+    # docs/bifurcation-limits/damping-circle-3-value.jsonl; docs/bifurcation-limits.md section 2)
     ("damping", 3, 0.329196077600, ((1, -1, 1, -1), 1), 2.22, 2.34),
 ])
 def test_a_fold_and_tie_value_ties_at_the_fold_of_its_switching_curve(kind, n, value, label, psi_lo, psi_hi):

@@ -103,6 +103,15 @@ def test_the_approach_fit_recovers_a_power_law_and_the_table_prints_a_missing_va
     table = results.format_table(full + [bound, plane])
     assert "none (N >= 2 always)" in table and "a = 0.2" in table and "p = 1.5" in table
     assert ">= " + results.plus_minus(bound["kappa"], 1e-13) in table
+    # a sequence above its asymptote (the damping's): 1 - ratio = -0.1 n^-0.5 for n = 1..4 gives a = -0.1, p = 0.5,
+    # local exponents 0.5; with two values of n >= 2 the table says why there is no fit
+    above = [dict(r, case=f"damping/circle/{r['n']}", kind="damping", kappa=(1 + 0.1 * r["n"] ** -0.5) * 0.9 / r["n"])
+             for r in full[:4]]
+    f = results.approach(above)["damping"]
+    assert abs(f.a + 0.1) < 1e-12 and abs(f.p - 0.5) < 1e-12 and f.residual < 1e-14
+    assert all(abs(p - 0.5) < 1e-12 for *_, p in results.local_exponents(results.departures(above)["damping"]))
+    assert "damping" not in results.approach(above[:3])
+    assert "no fit (three values of one sign with n >= 2 needed)" in results.format_table(above[:3])
 
 
 def test_the_least_time_to_go_of_the_dampings_band_is_a_minimum():

@@ -100,7 +100,7 @@ def test_the_sweeps_above_the_fold_and_tie_values_are_complete_and_positive():
     # the stored sweeps (ocp bifurcation --case ID --sweep FILE) that make a fold-and-tie value kappa_n:
     # one row at every angle pi (i + 1/2) / angles, at the case's kappa, each crossed switch's gap positive
     swept = [c for c in results.cases() if getattr(c, "above", None) is not None]
-    assert {c.id for c in swept} >= {"damping/circle/2", "swing-up/circle/6", "swing-up/circle/7"}
+    assert {c.id for c in swept} >= {"damping/circle/2", "damping/circle/3", "swing-up/circle/6", "swing-up/circle/7"}
     for case in swept:
         rows = results.sweep_rows(case)
         assert set(rows) == {math.pi * (i + 0.5) / case.angles for i in range(case.angles)}
@@ -109,15 +109,26 @@ def test_the_sweeps_above_the_fold_and_tie_values_are_complete_and_positive():
         assert all(r["s"] is None or r["s"] <= case.s_max for r in rows.values())
 
 
-def test_the_swing_ups_kappa_7_ties_at_the_fold_of_the_eighth_switching_curve():
-    # kappa_7 = 0.131030664919 +- 2e-12 (ocp bifurcation --case swing-up/circle/7: the fold-and-tie equations
-    # at PRECISE and CHECK; docs/bifurcation-limits.md section 2b): at 1e-7 either side, at CHECK accuracy, the
-    # fold's gap against (1, -1, 1, -1, 1, -1, 1, -1) to branch 1 changes sign, and the fold is crossed on one side
+@pytest.mark.parametrize("kind, n, value, label, psi_lo, psi_hi", [
+    # the swing-up's kappa_7 = 0.131030664919 +- 2e-12 (ocp bifurcation --case swing-up/circle/7: the fold-and-tie
+    # equations at PRECISE and CHECK; docs/bifurcation-limits.md section 2b)
+    ("swing-up", 7, 0.131030664919, ((1, -1, 1, -1, 1, -1, 1, -1), 1), 2.40, 2.43),
+    # the damping's kappa_3 = 0.329196077600 +- 2e-12 (ocp bifurcation --case damping/circle/3 at commit 9c385af:
+    # 0.32919607760035763 at PRECISE, 0.32919607760036423 at CHECK, the row in
+    # docs/bifurcation-limits/damping-circle-3-value.jsonl; docs/bifurcation-limits.md section 2)
+    ("damping", 3, 0.329196077600, ((1, -1, 1, -1), 1), 2.22, 2.34),
+])
+def test_a_fold_and_tie_value_ties_at_the_fold_of_its_switching_curve(kind, n, value, label, psi_lo, psi_hi):
+    # at 1e-7 either side of kappa_n, at CHECK accuracy, the gap at the fold of the (n + 1)-th switching curve
+    # against the competitor changes sign, and the fold is crossed on one side only (psi below it)
     from ocp.core.roots import brent
 
-    label, signs = ((1, -1, 1, -1, 1, -1, 1, -1), 1), []
-    for kappa in (0.131030664919 - 1e-7, 0.131030664919 + 1e-7):
-        fold = brent(lambda p: bifurcation.tangency("swing-up", kappa, p, 8, bifurcation.taylor.CHECK), 2.40, 2.43,
+    signs = []
+    for kappa in (value - 1e-7, value + 1e-7):
+        fold = brent(lambda p: bifurcation.tangency(kind, kappa, p, n + 1, bifurcation.taylor.CHECK), psi_lo, psi_hi,
                      1e-13)
-        signs.append(bifurcation.gap("swing-up", kappa, "circle", fold, 8, label, bifurcation.taylor.CHECK)[0])
+        signs.append(bifurcation.gap(kind, kappa, "circle", fold, n + 1, label, bifurcation.taylor.CHECK)[0])
+        below, above = (math.prod(bifurcation.crossing(kind, kappa, fold + d, n + 1, bifurcation.taylor.CHECK))
+                        for d in (-3e-3, 3e-3))
+        assert below > 0 > above
     assert signs[0] < 0 < signs[1] and abs(signs[0]) < 1e-3

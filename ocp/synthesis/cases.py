@@ -107,6 +107,12 @@ CASES = CASES + (
             "maps: 3 switches at omega of 10 to 12 at kappa = 0.5 (a band on the braking curves); gap -0.105 at "
             "kappa = 0.5 (psi = 2.25), +0.187 at kappa = 0.51 (psi = 2.226)",
             ((-1, 1, -1), -1), 0.50341, (0.5, 2.2085)),
+    TieCase("damping", "circle", 3, 0.325, 0.33, 2.22, 2.34,
+            "the band of four switches on the braking curves (psi = 2.1 to 2.4): its fourth switching curve folds at "
+            "psi = 2.3044, 2.28, 2.2682 at kappa = 0.325, 0.3275, 0.33 (none in that window at 0.335); the gap at the "
+            "fold against (1, -1, 1, -1) to branch 1 is -0.329 at kappa = 0.325 (the state (-81.706, 7.509)), +0.057 "
+            "at 0.33 (the state (-244.035, 12.789))",
+            ((1, -1, 1, -1), 1), 0.3292, (0.325, 2.254), s_max=48.0),
 ) + PLANE_CASES
 
 

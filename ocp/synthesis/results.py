@@ -58,7 +58,7 @@ def compute(case):
                              f"{ordinal(case.n + 1)} switch of {w['angles']} final costate angles over (0, pi) (the "
                              f"mirror image carries the rest) with time-to-go up to {case.s_max:g} has a positive gap, "
                              f"the least {w['least_gap']:.3g} at psi = {w['least_psi']:.4f}: kappa_{case.n} lies in "
-                             f"[{b.kappa:.12g}, {case.above:g}], and is this value unless a region of {case.n + 1} "
+                             f"[{b.kappa:#.12g}, {case.above:g}], and is this value unless a region of {case.n + 1} "
                              f"switches is born and dies again between the two")
     return row
 
@@ -160,28 +160,49 @@ def append(path, row):
         raise Fault(f"cannot write {path}: {err}") from None
 
 
+def departures(rows):
+    """{kind: [(n, d_n)]}: d_n = 1 - kappa_n / (G/(2n)) of each circle sequence's values (not its
+    lower bounds), by n; negative where kappa_n lies above the asymptote, as the damping's do."""
+    seqs = {}
+    for r in rows:
+        if r["reading"] == "circle" and r["kappa"] is not None and r.get("bound") != "lower":
+            seqs.setdefault(r["kind"], []).append((r["n"], 1 - r["kappa"] / r["asymptote"]))
+    return {kind: sorted(seq) for kind, seq in seqs.items()}
+
+
+def local_exponents(seq):
+    """[(n, m, p)]: the exponent of d_n ~ n^(-p) through each two successive values (n, d_n), (m, d_m),
+    p = ln(d_n / d_m) / ln(m / n) (nan where they differ in sign)."""
+    return [(n, m, math.log(d / e) / math.log(m / n) if d * e > 0 else math.nan)
+            for (n, d), (m, e) in zip(seq, seq[1:])]
+
+
 def approach(rows, n_min=2):
     """{kind: Approach}: the fits of d_n = 1 - kappa_n / (G/(2n)) over each circle sequence's values
-    with n >= n_min (three at least): the power law d_n = a n^(-p) (least squares in log-log) and,
-    with the exponent 3/2 the power law's local exponents approach, d_n = n^(-3/2) (c + e / n)
-    (linear least squares); standard errors from the covariance (nan with fewer than four values)."""
+    with n >= n_min (three at least, of one sign): the power law d_n = a n^(-p) (least squares of
+    ln |d_n| against ln n, a carrying the sign) and, with the exponent 3/2 the power law's local
+    exponents approach, d_n = n^(-3/2) (c + e / n) (linear least squares); standard errors from the
+    covariance (nan with fewer than four values)."""
     import numpy as np
 
     fits = {}
-    for kind in dict.fromkeys(r["kind"] for r in rows):
-        seq = sorted((r["n"], 1 - r["kappa"] / r["asymptote"]) for r in rows
-                     if r["kind"] == kind and r["reading"] == "circle" and r["n"] >= n_min)
-        if len(seq) < 3:
+    for kind, seq in departures(rows).items():
+        seq = [(k, d) for k, d in seq if k >= n_min]
+        if len(seq) < 3 or len({math.copysign(1, d) for _, d in seq}) > 1:
             continue
         n, d = np.array(seq).T
-        (slope, log_a), cov = np.polyfit(np.log(n), np.log(d), 1, cov=len(seq) > 3)
-        se = np.sqrt(np.diag(cov)) if len(seq) > 3 else (math.nan, math.nan)
-        a = math.exp(log_a)
+        sign = math.copysign(1, d[0])
+        if len(seq) > 3:
+            (slope, log_a), cov = np.polyfit(np.log(n), np.log(sign * d), 1, cov=True)
+            se = np.sqrt(np.diag(cov))
+        else:
+            (slope, log_a), se = np.polyfit(np.log(n), np.log(sign * d), 1), (math.nan, math.nan)
+        a = sign * math.exp(log_a)
         basis = np.vstack([n ** -1.5, n ** -2.5]).T
         ce = np.linalg.lstsq(basis, d, rcond=None)[0]
         sigma2 = float(np.sum((basis @ ce - d) ** 2)) / (len(seq) - 2) if len(seq) > 2 else math.nan
         ce_se = np.sqrt(np.diag(sigma2 * np.linalg.inv(basis.T @ basis))) if len(seq) > 3 else (math.nan, math.nan)
-        fits[kind] = Approach(a, a * se[1], -slope, se[0], float(np.max(np.abs(a * n ** slope - d))),
+        fits[kind] = Approach(a, abs(a) * se[1], -slope, se[0], float(np.max(np.abs(a * n ** slope - d))),
                               float(ce[0]), float(ce_se[0]), float(ce[1]), float(ce_se[1]),
                               float(np.max(np.abs(basis @ ce - d))), tuple(int(k) for k in n))
     return fits
@@ -221,11 +242,20 @@ def format_table(rows):
         value = (">= " if r.get("bound") == "lower" else "") + plus_minus(r["kappa"], r["error"])
         lines.append(f"{r['case']:<20} {value:>24} {r['asymptote']:>8.4f} "
                      f"{r['kappa'] / r['asymptote']:>7.4f} {r['published'] or '-':>10}  ({theta:.4f}, {omega:.4f})")
-    for kind, f in approach([r for r in rows if r["kappa"] is not None]).items():
-        lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = a n^-p with a = {plus_minus(f.a, f.a_error)}, "
-                     f"p = {plus_minus(f.p, f.p_error)} (largest residual {f.residual:.1e}); = n^-1.5 (c + e/n) with "
-                     f"c = {plus_minus(f.c, f.c_error)}, e = {plus_minus(f.e, f.e_error)} (largest residual "
-                     f"{f.residual_32:.1e}); least squares over n = {', '.join(map(str, f.ns))}")
+    fits = approach(rows)
+    for kind, seq in departures(rows).items():
+        local = ", ".join(f"{p:.2f}" for *_, p in local_exponents(seq))
+        f = fits.get(kind)
+        if f is not None:
+            lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = a n^-p with a = {plus_minus(f.a, f.a_error)}, "
+                         f"p = {plus_minus(f.p, f.p_error)} (largest residual {f.residual:.1e}); = n^-1.5 (c + e/n) "
+                         f"with c = {plus_minus(f.c, f.c_error)}, e = {plus_minus(f.e, f.e_error)} (largest residual "
+                         f"{f.residual_32:.1e}); least squares over n = {', '.join(map(str, f.ns))}; local exponents "
+                         f"between successive n from n = {seq[0][0]}: {local}")
+        elif len(seq) > 1:
+            lines.append(f"  {kind}/circle: 1 - kappa_n/(G/(2n)) = {', '.join(f'{d:+.4f}' for _, d in seq)} at n = "
+                         f"{', '.join(str(k) for k, _ in seq)}, local exponents {local} between successive n; no fit "
+                         f"(three values of one sign with n >= 2 needed)")
     for r in rows:
         where = "" if r["kappa"] is None else f" (time-to-go {r['time_to_go']:.4f})"
         lines.append(f"  {r['case']}: {r['mechanism']}{where}; computed at {r['commit'] or 'an unknown commit'}")

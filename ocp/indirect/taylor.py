@@ -227,3 +227,133 @@ def bang(x0, signs, durations, kappa, tol, K):
                 y[i] = _at(c, K, i, h)
             t += h
     return y[:2].copy()
+
+
+@nb.njit(cache=True)
+def _variation_series(c, K, dc):
+    """dc[k, i]: the k-th Taylor coefficient of dy_i, dy = d(theta, omega, p1, p2)/dphi, from the
+    variational equations dtheta' = domega, domega' = -cos(theta) dtheta, dp1' = cos(theta) dp2 -
+    sin(theta) p2 dtheta, dp2' = -dp1, along y's coefficients c (dc[0] set by the caller)."""
+    s = np.empty(K + 1)
+    co = np.empty(K + 1)
+    q = np.empty(K + 1)
+    s[0] = math.sin(c[0, 0])
+    co[0] = math.cos(c[0, 0])
+    for k in range(K):
+        q[k] = 0.0
+        for j in range(k + 1):
+            q[k] += c[j, 3] * dc[k - j, 0]
+        ct = 0.0
+        cp = 0.0
+        sq = 0.0
+        for j in range(k + 1):
+            ct += co[j] * dc[k - j, 0]
+            cp += co[j] * dc[k - j, 3]
+            sq += s[j] * q[k - j]
+        k1 = k + 1
+        dc[k1, 0] = dc[k, 1] / k1
+        dc[k1, 1] = -ct / k1
+        dc[k1, 2] = (cp - sq) / k1
+        dc[k1, 3] = -dc[k, 2] / k1
+        ss = 0.0
+        cc = 0.0
+        for j in range(1, k1 + 1):
+            jt = j * c[j, 0]
+            ss += jt * co[k1 - j]
+            cc += jt * s[k1 - j]
+        s[k1] = ss / k1
+        co[k1] = -cc / k1
+
+
+@nb.njit(cache=True)
+def _normalise_variation(y, dy):
+    """dy <- the derivative of p / |p| (before y's own normalisation): dp / n - p (p . dp) / n^3."""
+    n = math.hypot(y[2], y[3])
+    if n > 0.0:
+        pdp = (y[2] * dy[2] + y[3] * dy[3]) / (n * n * n)
+        dy2 = dy[2] / n - y[2] * pdp
+        dy[3] = dy[3] / n - y[3] * pdp
+        dy[2] = dy2
+
+
+@nb.njit(cache=True)
+def extremal_variations(y0, dy0, kappa, u_start, duration, direction, tol, K, switches, events):
+    """`extremal` (the same steps, switches, events and y, bit for bit) with the variational equations
+    beside it: dy = dy/dphi for a parameter phi of the start (dy0 its initial value).
+
+    At a switch (p2 = 0 at time t_s) dt_s/dphi = dp2/p1 and domega jumps by kappa (u_old - u_new)
+    dt_s/dphi; at a turning point (omega = 0 at t_e) dt_e/dphi = -domega/(kappa u - sin theta) and
+    dtheta_e/dphi = dtheta. Writes switches[i] = (t, theta, omega, p1, p2, ds_s/dphi) and events[i] =
+    (t, theta, arc, index in arc, p1, p2, dtheta_e/dphi, ds_e/dphi), t the elapsed time |t - t0| and
+    ds/dphi = direction dt/dphi its derivative. Returns (switch count, event count, final y with
+    |p| = 1, final dy, final u, steps)."""
+    c = np.empty((K + 1, 4))
+    dc = np.empty((K + 1, 4))
+    y = y0.copy()
+    dy = dy0.copy()
+    _normalise_variation(y, dy)
+    _normalise(y)
+    u = u_start if y[3] == 0.0 else (1.0 if y[3] > 0.0 else -1.0)
+    t = 0.0
+    n_sw = 0
+    n_ev = 0
+    in_arc = 0
+    steps = 0
+    while t < duration:
+        steps += 1
+        _series(y, u, kappa, K, c)
+        for i in range(4):
+            dc[0, i] = dy[i]
+        _variation_series(c, K, dc)
+        h = min(_step(c, K, tol), duration - t)
+        stop = direction * h
+        switched = False
+        before = 0.0
+        for q in range(1, 0 if _clear(c, K, 3, stop) else SUBSTEPS + 1):
+            tq = stop * q / SUBSTEPS
+            if u * _at(c, K, 3, tq) < 0.0:
+                stop = _zero(c, K, 3, before, tq)
+                switched = True
+                break
+            before = tq
+        w0 = c[0, 1]
+        before = 0.0
+        for q in range(1, 0 if _clear(c, K, 1, stop) else SUBSTEPS + 1):
+            tq = stop * q / SUBSTEPS
+            w1 = _at(c, K, 1, tq)
+            if (w0 > 0.0 and w1 <= 0.0) or (w0 < 0.0 and w1 >= 0.0):
+                r = _zero(c, K, 1, before, tq) if w1 != 0.0 else tq
+                if n_ev < events.shape[0]:
+                    theta = _at(c, K, 0, r)
+                    events[n_ev, 0] = t + abs(r)
+                    events[n_ev, 1] = theta
+                    events[n_ev, 2] = n_sw
+                    events[n_ev, 3] = in_arc
+                    events[n_ev, 4] = _at(c, K, 2, r)
+                    events[n_ev, 5] = _at(c, K, 3, r)
+                    events[n_ev, 6] = _at(dc, K, 0, r)
+                    events[n_ev, 7] = -direction * _at(dc, K, 1, r) / (kappa * u - math.sin(theta))
+                n_ev += 1
+                in_arc += 1
+            if w1 != 0.0:
+                w0 = w1
+            before = tq
+        for i in range(4):
+            y[i] = _at(c, K, i, stop)
+            dy[i] = _at(dc, K, i, stop)
+        t += abs(stop)
+        if switched:
+            y[3] = 0.0
+            dt_s = dy[3] / y[2]
+            dy[1] += kappa * 2.0 * u * dt_s
+            if n_sw < switches.shape[0]:
+                switches[n_sw, 0] = t
+                for i in range(4):
+                    switches[n_sw, 1 + i] = y[i]
+                switches[n_sw, 5] = direction * dt_s
+            n_sw += 1
+            u = -u
+            in_arc = 0
+        _normalise_variation(y, dy)
+        _normalise(y)
+    return n_sw, n_ev, y, dy, u, steps

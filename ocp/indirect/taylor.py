@@ -230,27 +230,36 @@ def bang(x0, signs, durations, kappa, tol, K):
 
 
 @nb.njit(cache=True)
-def _variation_series(c, K, dc):
-    """dc[k, i]: the k-th Taylor coefficient of dy_i, dy = d(theta, omega, p1, p2)/dphi, from the
-    variational equations dtheta' = domega, domega' = -cos(theta) dtheta, dp1' = cos(theta) dp2 -
-    sin(theta) p2 dtheta, dp2' = -dp1, along y's coefficients c (dc[0] set by the caller)."""
-    s = np.empty(K + 1)
-    co = np.empty(K + 1)
-    q = np.empty(K + 1)
-    s[0] = math.sin(c[0, 0])
-    co[0] = math.cos(c[0, 0])
+def _series_variations(y, dy, u, kappa, K, c, dc, s, co, q):
+    """`_series` (the same coefficients c, by the same operations), and dc[k, i], the k-th Taylor
+    coefficient of dy_i, dy = d(theta, omega, p1, p2)/dphi, by the variational equations
+    dtheta' = domega, domega' = -cos(theta) dtheta, dp1' = cos(theta) dp2 - sin(theta) p2 dtheta,
+    dp2' = -dp1 (s, co, q: work arrays of K + 1 for the series of sin, cos and p2 dtheta)."""
+    for i in range(4):
+        c[0, i] = y[i]
+        dc[0, i] = dy[i]
+    s[0] = math.sin(y[0])
+    co[0] = math.cos(y[0])
     for k in range(K):
-        q[k] = 0.0
-        for j in range(k + 1):
-            q[k] += c[j, 3] * dc[k - j, 0]
+        k1 = k + 1
+        c[k1, 0] = c[k, 1] / k1
+        c[k1, 1] = ((kappa * u if k == 0 else 0.0) - s[k]) / k1
+        acc = 0.0
+        for j in range(k1):
+            acc += c[j, 3] * co[k - j]
+        c[k1, 2] = acc / k1
+        c[k1, 3] = -c[k, 2] / k1
+        qk = 0.0
+        for j in range(k1):
+            qk += c[j, 3] * dc[k - j, 0]
+        q[k] = qk
         ct = 0.0
         cp = 0.0
         sq = 0.0
-        for j in range(k + 1):
+        for j in range(k1):
             ct += co[j] * dc[k - j, 0]
             cp += co[j] * dc[k - j, 3]
             sq += s[j] * q[k - j]
-        k1 = k + 1
         dc[k1, 0] = dc[k, 1] / k1
         dc[k1, 1] = -ct / k1
         dc[k1, 2] = (cp - sq) / k1
@@ -289,6 +298,7 @@ def extremal_variations(y0, dy0, kappa, u_start, duration, direction, tol, K, sw
     |p| = 1, final dy, final u, steps)."""
     c = np.empty((K + 1, 4))
     dc = np.empty((K + 1, 4))
+    sin_c, cos_c, p2_dtheta = np.empty(K + 1), np.empty(K + 1), np.empty(K + 1)
     y = y0.copy()
     dy = dy0.copy()
     _normalise_variation(y, dy)
@@ -301,10 +311,7 @@ def extremal_variations(y0, dy0, kappa, u_start, duration, direction, tol, K, sw
     steps = 0
     while t < duration:
         steps += 1
-        _series(y, u, kappa, K, c)
-        for i in range(4):
-            dc[0, i] = dy[i]
-        _variation_series(c, K, dc)
+        _series_variations(y, dy, u, kappa, K, c, dc, sin_c, cos_c, p2_dtheta)
         h = min(_step(c, K, tol), duration - t)
         stop = direction * h
         switched = False

@@ -29,13 +29,19 @@ first excludes every allowed target, or the second holds: then each target is cr
 (bracketed by the sign change of the end values) or not at all. M is CURVATURE times the largest
 second derivative, at the half's ends, of the cubic Hermite interpolants of theta_label's values and
 slopes on [a, m] and [m, b] (at m, both). The time is bounded alike: a half whose least end time,
-less M_t h^2 / 8, is after the acceptance holds no arrival. The residual assumption of completeness
-is that bound: on every half the scan resolved, |theta_label''| and |t_label''| stay below
-CURVATURE times their Hermite estimates. A feature narrower than the half that shows in none of the
-values and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it;
-it is not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive
-brute force on random states and kappa). A label present at some of a, m, b only (its turning point
-crosses the horizon) before the acceptance horizon also forces a split. Intervals are not split
+less M_t h^2 / 8, is after the acceptance holds no arrival. A turning point that no sample sees
+(born and dying between two samples through the acceptance time t_a, as where an arc's switch comes
+in from beyond the horizon) is caught by the same bound on omega(t_a, phi), integrated to t_a with
+its slope at each sample: the turning points before t_a change only where one crosses t_a (zeros of
+omega are transversal inside an arc and never at a switch, p1 omega = 1), a zero of omega(t_a, .),
+so a half on which the bound excludes a zero, or shows omega(t_a, .) monotone (one crossing, seen by
+the samples), hides none. The residual assumption of completeness is that bound: on every half the
+scan resolved, |theta_label''|, |t_label''| and |omega(t_a, .)''| stay below CURVATURE times their
+Hermite estimates. A feature narrower than the half that shows in none of the values and slopes at
+a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is not proven, it
+is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
+states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
+before the acceptance horizon also forces a split. Intervals are not split
 below MIN_WIDTH; such an interval that is still unresolved is reported. Each bracketed arrival is
 solved by safeguarded Newton in phi on theta_label - theta* (its slope from the variational
 equations; bisection where a step would leave the bracket), with the SCAN integration from the root
@@ -210,8 +216,9 @@ class Coverage:
         text = (f"complete scan of the costate angle ({self.reading}): {self.extremals} extremals over "
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
                 f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g} "
-                f"(assumed: between two samples, a turning point's |d2 theta/dphi2| and |d2 t/dphi2| stay below "
-                f"{CURVATURE:g} x their cubic Hermite estimates from the samples' values and slopes)")
+                f"(assumed: between two samples, the second derivatives in phi of a turning point's angle and time, "
+                f"and of omega at t = {self.horizon:.4g}, stay below {CURVATURE:g} x their cubic Hermite estimates "
+                f"from the samples' values and slopes)")
         if self.stopped:
             text = "stopped by the time limit: " + text.replace("complete scan", "partial scan", 1).replace(
                 "every arrival", "arrivals searched")
@@ -303,16 +310,26 @@ STATUS_MESSAGES = {
 class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
     index in arc) -> (t, theta) in `events` and their derivatives in phi -> (dt/dphi,
-    dtheta/dphi) in `slopes`, and where the integration ended (to extend it from there)."""
+    dtheta/dphi) in `slopes`, its angular velocity and that's derivative in phi at the end of each
+    integration, duration -> (omega, domega/dphi) in `ends`, and where the integration ended (to
+    extend it from there)."""
 
-    __slots__ = ("phi", "u0", "duration", "events", "slopes", "end")
+    __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end")
 
     def __init__(self, family, phi, u0, duration):
-        self.phi, self.u0, self.events, self.slopes, self.duration, self.end = phi, u0, {}, {}, 0.0, None
+        self.phi, self.u0, self.events, self.slopes, self.ends = phi, u0, {}, {}, {}
+        self.duration, self.end = 0.0, None
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
-        """Integrated on to `duration`, from where the last integration ended."""
+        """Integrated on to `duration`, from where the last integration ended, with a stop at the
+        acceptance time duration * (1 - HORIZON_BAND) of a scan to that horizon (for `ends`)."""
+        accept = duration * (1 - HORIZON_BAND)
+        if self.duration < accept:
+            self._integrate(family, accept)
+        self._integrate(family, duration)
+
+    def _integrate(self, family, duration):
         n_sw, _, _, events, end = family.run(self.phi, self.u0, duration - self.duration, taylor.SCAN,
                                               None if self.end is None else self.end[:3])
         arcs, index = (0, 0) if self.end is None else self.end[3:]
@@ -323,6 +340,7 @@ class _Sample:
             self.slopes[label] = (dt, dtheta)
             last = last + 1 if arc == n_sw else last
         self.end = (*end, arcs + n_sw, last + (index if n_sw == 0 else 0))
+        self.ends[duration] = (float(end[0][1]), float(end[1][1]))
         self.duration = duration
 
 
@@ -422,9 +440,27 @@ def _examine(problem, family, a, m, b, accept, extended):
     |s0 + s1| > M h (f' >= (s0 + s1 - M h) / 2 there). A half is resolved when the first excludes
     every target, or the second holds: then a target is crossed once or not at all, as the end
     values say. The turning point's time t_label is bounded alike: a half whose least time, less
-    M_t h^2 / 8, is after `accept` holds no arrival."""
+    M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept`: a half where it may have
+    two zeros may hide a turning point no sample sees, and is split."""
     split, singular, brackets = False, math.inf, []
     h = 0.5 * (b.phi - a.phi)
+    # the turning points before the acceptance t_a change on [a, b] only where one crosses it, a zero
+    # of omega(t_a, phi): a half where omega(t_a, .) has none, or one (monotone), hides none (where a
+    # sample lacks t_a, from an earlier scan's horizon, the latest end the three share stands for it)
+    common = set(a.ends) & set(m.ends) & set(b.ends)
+    if not common:
+        common = {max(a.duration, m.duration, b.duration)}
+        for s in (a, m, b):
+            if s.duration < max(common):
+                s.integrate(family, max(common))
+    end = accept if accept in common else max(common)
+    (wa, dwa), (wm, dwm), (wb, dwb) = a.ends[end], m.ends[end], b.ends[end]
+    for w0, w1, s0, s1, curvature in zip((wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb),
+                                         _curvatures(wa, wm, wb, dwa, dwm, dwb, h)):
+        bound = CURVATURE * curvature
+        if not (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
+                or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)) and b.phi - a.phi > 2 * MIN_WIDTH:
+            split = True
     for label in set(a.events) | set(m.events) | set(b.events):
         values = [s.events.get(label) for s in (a, m, b)]
         if None in values:

@@ -354,17 +354,19 @@ class _Family:
         self.count = 0
         self._switches = np.empty((64, 6))
         self._events = np.empty((256, 8))
+        self._y0, self._dy0 = np.array([*self.x0, 0.0, 0.0]), np.zeros(4)
         self._samples = {}
 
     def run(self, phi, u0, duration, accuracy, start=None):
         """(switch count, switches, event count, events, (final y, final dy/dphi, final u)) of the
         extremal with costate angle phi, or of its continuation from `start` (a previous run's final
-        (y, dy, u)); the rows of `taylor.extremal_variations`."""
+        (y, dy, u)); the rows of `taylor.extremal_variations`, views of the family's buffers that the
+        next run overwrites (copy what is kept)."""
         tol, order = accuracy
         if start is None:
-            seam = abs(math.sin(phi)) < 1e-15
-            y0 = np.array([self.x0[0], self.x0[1], math.cos(phi), 0.0 if seam else math.sin(phi)])
-            dy0, u_start = np.array([0.0, 0.0, -math.sin(phi), math.cos(phi)]), float(u0)
+            y0, dy0, u_start = self._y0, self._dy0, float(u0)
+            sin, cos = math.sin(phi), math.cos(phi)
+            y0[2], y0[3], dy0[2], dy0[3] = cos, 0.0 if abs(sin) < 1e-15 else sin, -sin, cos
         else:
             y0, dy0, u_start = start
         while True:
@@ -376,7 +378,7 @@ class _Family:
             self._events = np.empty((2 * max(n_ev, len(self._events)), 8))
         self.count += start is None
         self.steps_per_time = steps / duration
-        return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy(), (y, dy, u)
+        return n_sw, self._switches[:n_sw], n_ev, self._events[:n_ev], (y, dy, u)
 
     def sample(self, phi, u0, duration):
         """The _Sample of phi integrated at least for `duration`: the one of an earlier scan (the
@@ -526,7 +528,7 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=No
             _, switches, _, events, _ = family.run(phi, u0, duration, accuracy)
             hit = [e for e in events if (int(e[2]), int(e[3])) == label]
             if hit or duration > 2 * t_guess + 10:
-                return (hit[0] if hit else None), switches
+                return (hit[0].copy() if hit else None), switches.copy()
             duration *= 1.5
 
     ends = [family._samples.get((phi, u0)) for phi in (lo, hi)]

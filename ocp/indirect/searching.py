@@ -34,12 +34,15 @@ less M_t h^2 / 8, is after the acceptance holds no arrival. A turning point that
 in from beyond the horizon) is caught by the same bound on omega(t_a, phi), integrated to t_a with
 its slope at each sample: the turning points before t_a change only where one crosses t_a (zeros of
 omega are transversal inside an arc and never at a switch, p1 omega = 1), a zero of omega(t_a, .),
-so a half on which the bound excludes a zero, or shows omega(t_a, .) monotone (one crossing, seen by
-the samples), hides none. The residual assumption of completeness is that bound: on every half the
-scan resolved, |theta_label''|, |t_label''| and |omega(t_a, .)''| stay below CURVATURE times their
-Hermite estimates. A feature narrower than the half that shows in none of the values and slopes at
-a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is not proven, it
-is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
+so where a, m, b see the same turning points, a half on which the bound excludes a zero, or shows
+omega(t_a, .) monotone (one crossing, seen by the samples), hides none (where they see different
+ones, a turning point crossing the horizon, the rules for those below decide: near an extremal that
+reaches a saddle, omega(t_a, .) is too steep for the bound, and that check alone would bisect to
+MIN_WIDTH, 4 times the extremals). The residual assumption of completeness is that bound: on every
+half the scan resolved, |theta_label''|, |t_label''| and |omega(t_a, .)''| stay below CURVATURE
+times their Hermite estimates. A feature narrower than the half that shows in none of the values
+and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
+not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
 states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split. Intervals are not split
 below MIN_WIDTH; such an interval that is still unresolved is reported. Each bracketed arrival is
@@ -442,13 +445,15 @@ def _examine(problem, family, a, m, b, accept, extended):
     |s0 + s1| > M h (f' >= (s0 + s1 - M h) / 2 there). A half is resolved when the first excludes
     every target, or the second holds: then a target is crossed once or not at all, as the end
     values say. The turning point's time t_label is bounded alike: a half whose least time, less
-    M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept`: a half where it may have
-    two zeros may hide a turning point no sample sees, and is split."""
+    M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept`: where a, m, b see the
+    same turning points, a half where it may have two zeros may hide one no sample sees, and is split."""
     split, singular, brackets = False, math.inf, []
     h = 0.5 * (b.phi - a.phi)
     # the turning points before the acceptance t_a change on [a, b] only where one crosses it, a zero
-    # of omega(t_a, phi): a half where omega(t_a, .) has none, or one (monotone), hides none (where a
-    # sample lacks t_a, from an earlier scan's horizon, the latest end the three share stands for it)
+    # of omega(t_a, phi): where a, m, b see the same ones, a half where omega(t_a, .) has no zero, or
+    # one (monotone), hides none (where a sample lacks t_a, from an earlier scan's horizon, the latest
+    # end the three share stands for it); where they differ, the labels below decide
+    alike = a.events.keys() == m.events.keys() == b.events.keys()
     common = set(a.ends) & set(m.ends) & set(b.ends)
     if not common:
         common = {max(a.duration, m.duration, b.duration)}
@@ -461,7 +466,7 @@ def _examine(problem, family, a, m, b, accept, extended):
                                          _curvatures(wa, wm, wb, dwa, dwm, dwb, h)):
         bound = CURVATURE * curvature
         if not (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
-                or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)) and b.phi - a.phi > 2 * MIN_WIDTH:
+                or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)) and b.phi - a.phi > 2 * MIN_WIDTH and alike:
             split = True
     for label in set(a.events) | set(m.events) | set(b.events):
         values = [s.events.get(label) for s in (a, m, b)]

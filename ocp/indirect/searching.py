@@ -483,12 +483,17 @@ def _examine(problem, family, a, m, b, accept, extended):
                 continue
         (ta, tha), (tm, thm), (tb, thb) = values
         (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
-        reach_t = [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
-        early = (min(ta, tm) - reach_t[0] <= accept, min(tm, tb) - reach_t[1] <= accept)
-        if not (early[0] or early[1]):      # the turning point's time stays after the acceptance
-            continue
+        early = (min(ta, tm) <= accept, min(tm, tb) <= accept)
+        if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
+            reach_t = [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
+            early = (not min(ta, tm) - reach_t[0] > accept, not min(tm, tb) - reach_t[1] > accept)
+            if not (early[0] or early[1]):  # the turning point's time stays after the acceptance
+                continue
         bounds = _curvatures(tha, thm, thb, dtha, dthm, dthb, h)
-        found, resolved = [], math.isfinite(bounds[0] + bounds[1] + reach_t[0] + reach_t[1])
+        found, resolved = [], math.isfinite(bounds[0] + bounds[1])
+        reach = CURVATURE * max(bounds) * h * h / 8
+        if resolved and not _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach):
+            continue                        # no target within reach on either half
         for x0, x1, t0, t1, f0, f1, s0, s1, bound, early_half in (
                 (a.phi, m.phi, ta, tm, tha, thm, dtha, dthm, CURVATURE * bounds[0], early[0]),
                 (m.phi, b.phi, tm, tb, thm, thb, dthm, dthb, CURVATURE * bounds[1], early[1])):

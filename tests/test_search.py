@@ -118,3 +118,40 @@ def test_an_extremal_extended_from_where_it_ended_has_the_turning_points_of_one_
         for label, (t, theta) in whole.events.items():
             assert extended.events[label] == pytest.approx((t, theta), abs=1e-6)
     assert len(whole.events) >= 3, "too few turning points to test the labels' continuation"
+
+
+def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0), duration=10.0):
+    """A _Sample as the scan sees it: one turning point `label` at (t, theta) with slopes (dt/dphi,
+    dtheta/dphi) = (t[1], slope), and (omega, domega/dphi) = `omega` at the acceptance time."""
+    sample = S._Sample.__new__(S._Sample)
+    sample.phi, sample.u0, sample.duration, sample.end = phi, 1, duration, None
+    sample.events, sample.slopes = {label: (t[0], theta)}, {label: (t[1], slope)}
+    sample.ends = {duration * (1 - S.HORIZON_BAND): omega}
+    return sample
+
+
+@pytest.mark.parametrize("thetas, slopes, split, brackets", [
+    ((2.8, 2.9, 3.0), (1.0, 1.0, 1.0), False, []),          # a straight line below pi: nothing to find
+    ((3.0, 3.1, 3.2), (1.0, 1.0, 1.0), False, [(0.1, 0.2)]),  # one crossing of pi, in the second half
+    ((2.8, 2.9, 3.0), (1.0, -20.0, 1.0), True, []),          # the same values, an excursion between them
+])
+def test_the_interval_test_bounds_a_turning_point_by_its_values_and_slopes(thetas, slopes, split, brackets):
+    """The values alone (monotone, the midpoint on the chord: what the sampling heuristic accepted)
+    cannot tell a straight line from an excursion that turns back between the samples (the slope
+    -20 at the midpoint, against the chord's 1): the bound from the slopes splits the interval."""
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
+    a, m, b = (fake_sample(phi, th, s) for phi, th, s in zip((0.0, 0.1, 0.2), thetas, slopes))
+    found_split, _, found = S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)
+    assert found_split == split
+    assert [(lo, hi) for lo, hi, *_ in found] == brackets
+
+
+def test_a_turning_point_seen_by_no_sample_is_looked_for_where_omega_at_the_acceptance_may_vanish():
+    """A turning point can be born and die between two samples (a pair of them crossing the acceptance
+    time) where no sample sees it: omega at the acceptance time then has two zeros between the samples.
+    An omega(phi) bounded away from zero by its values and slopes resolves the interval; one that
+    may dip through zero (0.5, 0.4, 0.5 with slopes -10, 0, 10) splits it."""
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
+    for omegas, slopes, split in (((0.5, 0.4, 0.5), (-1.0, 0.0, 1.0), False), ((0.5, 0.4, 0.5), (-10.0, 0.0, 10.0), True)):
+        a, m, b = (fake_sample(phi, 2.0 + phi, 1.0, (w, s)) for phi, w, s in zip((0.0, 0.1, 0.2), omegas, slopes))
+        assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split

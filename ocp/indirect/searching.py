@@ -18,18 +18,40 @@ time) or at the horizon. An extremal reaches the target (theta*, 0) exactly when
 points has theta = theta*: arrivals are the roots of theta_label(phi) - theta*_k, for every branch
 k (the circle) or the pinned one (the plane).
 
-The scan samples phi (SAMPLES per half), then bisects adaptively: an interval [a, b] is resolved
-when, for every label, the range of its three values widened by NEAR times their variation
-(|theta_m - theta_a| + |theta_b - theta_m|) excludes every allowed target, or brackets one target
-with monotone values and the midpoint's departure from linear interpolation e <= LINEAR *
-|theta_b - theta_a| (one crossing, located by a sign change in one half). A label present at some of a, m, b only (its turning point crosses the horizon) before
-the acceptance horizon also forces a split. Intervals are not split below MIN_WIDTH; such an
-interval that is still unresolved is reported. A missed arrival would therefore be a crossing
-hidden in an interval where the turning point's angle makes an excursion beyond its sampled
-variation to reach a target (a pair of arrivals born at a fold, narrower than the sampling there). Each bracketed arrival is solved by Brent's method in phi
-with the PRECISE Taylor integration, and again with CHECK and with PRECISE_ALT (another order and
-step, so another rounding): SAFETY times the largest difference, plus the rounding floor, is its
-error estimate.
+The scan samples phi (SAMPLES per half), then bisects adaptively. Every extremal is integrated
+with its variational equations in phi (`taylor.extremal_variations`): each turning point carries
+its angle theta_label, its time t_label and their slopes in phi. An interval [a, b] with midpoint m
+is resolved when, for every label, each half [x0, x1] (width h) is, by a bound of what theta_label
+can do between its samples: if |theta_label''| <= M on the half, theta_label stays within
+M h^2 / 8 of the chord of its end values, and it is monotone if its end slopes s0, s1 have one sign
+and |s0 + s1| > M h (|theta_label'| >= (|s0 + s1| - M h) / 2 between). A half is resolved when the
+first excludes every allowed target, or the second holds: then each target is crossed once
+(bracketed by the sign change of the end values) or not at all. M is CURVATURE times the largest
+second derivative, at the half's ends, of the cubic Hermite interpolants of theta_label's values and
+slopes on [a, m] and [m, b] (at m, both). The time is bounded alike: a half whose least end time,
+less M_t h^2 / 8, is after the acceptance holds no arrival. A turning point that no sample sees
+(born and dying between two samples through the acceptance time t_a, as where an arc's switch comes
+in from beyond the horizon) is caught by the same bound on omega(t_a, phi), integrated to t_a with
+its slope at each sample: the turning points before t_a change only where one crosses t_a (zeros of
+omega are transversal inside an arc and never at a switch, p1 omega = 1), a zero of omega(t_a, .),
+so where a, m, b see the same turning points, a half on which the bound excludes a zero, or shows
+omega(t_a, .) monotone (one crossing, seen by the samples), hides none (where they see different
+ones, a turning point crossing the horizon, the rules for those below decide: near an extremal that
+reaches a saddle, omega(t_a, .) is too steep for the bound, and that check alone would bisect to
+MIN_WIDTH, 4 times the extremals). The residual assumption of completeness is that bound: on every
+half the scan resolved, |theta_label''|, |t_label''| and |omega(t_a, .)''| stay below CURVATURE
+times their Hermite estimates. A feature narrower than the half that shows in none of the values
+and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
+not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
+states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
+before the acceptance horizon also forces a split. Intervals are not split
+below MIN_WIDTH; such an interval that is still unresolved is reported. Each bracketed arrival is
+solved by safeguarded Newton in phi on theta_label - theta* (its slope from the variational
+equations; bisection where a step would leave the bracket), with the SCAN integration from the root
+of the cubic Hermite interpolant at the bracket's ends, then from that root with CHECK, and again
+with PRECISE and PRECISE_ALT (another order and step, so another rounding), each iterated to
+4 eps |phi| at its own accuracy: SAFETY times the largest difference, plus the rounding floor, is
+its error estimate.
 
 How the family is read (`search`): a start at the target's edge is solved in closed form
 (`ocp.indirect.near`). A start at rest high up with the target below (damping from near the
@@ -58,7 +80,7 @@ from . import near, taylor
 
 EPS = 2.220446049250313e-16
 #: phi samples per admissible half-circle before adaptive bisection
-SAMPLES = 32
+SAMPLES = 16
 #: the scan starts this far inside the ends of an admissible interval: there p2(0) = 0 (the first
 #: arc has zero length; from rest a turning point is born at t = 0) or p . f(x0, u0) = 0 (abnormal
 #: extremals, whose switches may meet a turning point). The ends themselves are checked apart.
@@ -67,11 +89,14 @@ END_OFFSET = 1e-9
 END_NEAR = 1e-6
 #: finest phi spacing of the bisection
 MIN_WIDTH = 1e-10
-#: a bracket is one crossing when the midpoint departs from linear by at most this fraction
-LINEAR = 0.25
-#: an interval is examined for a crossing when a target lies within NEAR times the variation of
-#: the turning point's angle over it from the sampled values (a narrow excursion could reach it)
-NEAR = 1.0
+#: the bound of a turning point's |d^2 theta / dphi^2| (and |d^2 t / dphi^2|) on an interval: this
+#: many times the largest of the cubic Hermite interpolants' of its values and slopes (the residual
+#: assumption of the scan's completeness: the module's docstring)
+CURVATURE = 2.0
+#: safeguarded Newton iterations of a root (one extremal each) before it is given up
+NEWTON_ITERATIONS = 40
+#: ... which ends where a step no longer halves the previous one, both below this relative size
+NEWTON_FLOOR = 1e-10
 #: arrivals are accepted before horizon * (1 - HORIZON_BAND): the turning points between that and
 #: the horizon are seen, so that one whose time dips before it between two samples is resolved
 HORIZON_BAND = 0.2
@@ -193,7 +218,10 @@ class Coverage:
                     f"beyond reach")
         text = (f"complete scan of the costate angle ({self.reading}): {self.extremals} extremals over "
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
-                f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g}")
+                f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g} "
+                f"(assumed: between two samples, the second derivatives in phi of a turning point's angle and time, "
+                f"and of omega at t = {self.horizon:.4g}, stay below {CURVATURE:g} x their cubic Hermite estimates "
+                f"from the samples' values and slopes)")
         if self.stopped:
             text = "stopped by the time limit: " + text.replace("complete scan", "partial scan", 1).replace(
                 "every arrival", "arrivals searched")
@@ -284,59 +312,76 @@ STATUS_MESSAGES = {
 
 class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
-    index in arc) -> (t, theta), and where the integration ended (to extend it from there)."""
+    index in arc) -> (t, theta) in `events` and their derivatives in phi -> (dt/dphi,
+    dtheta/dphi) in `slopes`, its angular velocity and that's derivative in phi at the end of each
+    integration, duration -> (omega, domega/dphi) in `ends`, and where the integration ended (to
+    extend it from there)."""
 
-    __slots__ = ("phi", "u0", "duration", "events", "end")
+    __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end")
 
     def __init__(self, family, phi, u0, duration):
-        self.phi, self.u0, self.events, self.duration, self.end = phi, u0, {}, 0.0, None
+        self.phi, self.u0, self.events, self.slopes, self.ends = phi, u0, {}, {}, {}
+        self.duration, self.end = 0.0, None
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
-        """Integrated on to `duration`, from where the last integration ended."""
+        """Integrated on to `duration`, from where the last integration ended, with a stop at the
+        acceptance time duration * (1 - HORIZON_BAND) of a scan to that horizon (for `ends`)."""
+        accept = duration * (1 - HORIZON_BAND)
+        if self.duration < accept:
+            self._integrate(family, accept)
+        self._integrate(family, duration)
+
+    def _integrate(self, family, duration):
         n_sw, _, _, events, end = family.run(self.phi, self.u0, duration - self.duration, taylor.SCAN,
-                                              None if self.end is None else self.end[:2])
-        arcs, index = (0, 0) if self.end is None else self.end[2:]
+                                              None if self.end is None else self.end[:3])
+        arcs, index = (0, 0) if self.end is None else self.end[3:]
         last = 0
-        for t, theta, arc, i, _, _ in events.tolist():
-            self.events[arcs + int(arc), int(i) + (index if arc == 0 else 0)] = (t + self.duration, theta)
+        for t, theta, arc, i, _, _, dtheta, dt in events.tolist():
+            label = arcs + int(arc), int(i) + (index if arc == 0 else 0)
+            self.events[label] = (t + self.duration, theta)
+            self.slopes[label] = (dt, dtheta)
             last = last + 1 if arc == n_sw else last
         self.end = (*end, arcs + n_sw, last + (index if n_sw == 0 else 0))
+        self.ends[duration] = (float(end[0][1]), float(end[1][1]))
         self.duration = duration
 
 
 class _Family:
-    """The extremals from x0 for bound kappa, integrated on demand."""
+    """The extremals from x0 for bound kappa, integrated on demand with their variational equations
+    in phi (`taylor.extremal_variations`)."""
 
     def __init__(self, x0, kappa):
         self.x0 = (float(x0[0]), float(x0[1]))
         self.kappa = float(kappa)
         self.count = 0
-        self._switches = np.empty((64, 5))
-        self._events = np.empty((256, 6))
-        self._none = np.empty(0)
-        self._no_samples = np.empty((0, 3))
+        self._switches = np.empty((64, 6))
+        self._events = np.empty((256, 8))
+        self._y0, self._dy0 = np.array([*self.x0, 0.0, 0.0]), np.zeros(4)
         self._samples = {}
 
     def run(self, phi, u0, duration, accuracy, start=None):
-        """(switch count, switches, event count, events, (final y, final u)) of the extremal with
-        costate angle phi, or of its continuation from `start` (a previous run's final (y, u))."""
+        """(switch count, switches, event count, events, (final y, final dy/dphi, final u)) of the
+        extremal with costate angle phi, or of its continuation from `start` (a previous run's final
+        (y, dy, u)); the rows of `taylor.extremal_variations`, views of the family's buffers that the
+        next run overwrites (copy what is kept)."""
         tol, order = accuracy
         if start is None:
-            seam = abs(math.sin(phi)) < 1e-15
-            y0, u_start = np.array([self.x0[0], self.x0[1], math.cos(phi), 0.0 if seam else math.sin(phi)]), float(u0)
+            y0, dy0, u_start = self._y0, self._dy0, float(u0)
+            sin, cos = math.sin(phi), math.cos(phi)
+            y0[2], y0[3], dy0[2], dy0[3] = cos, 0.0 if abs(sin) < 1e-15 else sin, -sin, cos
         else:
-            y0, u_start = start
+            y0, dy0, u_start = start
         while True:
-            n_sw, n_ev, y, u, steps = taylor.extremal(y0, self.kappa, u_start, duration, 1.0, tol, order,
-                                                      self._switches, self._events, self._none, self._no_samples)
+            n_sw, n_ev, y, dy, u, steps = taylor.extremal_variations(y0, dy0, self.kappa, u_start, duration, 1.0, tol,
+                                                                     order, self._switches, self._events)
             if n_sw <= len(self._switches) and n_ev <= len(self._events):
                 break
-            self._switches = np.empty((2 * max(n_sw, len(self._switches)), 5))
-            self._events = np.empty((2 * max(n_ev, len(self._events)), 6))
+            self._switches = np.empty((2 * max(n_sw, len(self._switches)), 6))
+            self._events = np.empty((2 * max(n_ev, len(self._events)), 8))
         self.count += start is None
         self.steps_per_time = steps / duration
-        return n_sw, self._switches[:n_sw].copy(), n_ev, self._events[:n_ev].copy(), (y, u)
+        return n_sw, self._switches[:n_sw], n_ev, self._events[:n_ev], (y, dy, u)
 
     def sample(self, phi, u0, duration):
         """The _Sample of phi integrated at least for `duration`: the one of an earlier scan (the
@@ -377,20 +422,54 @@ def _distance(problem, theta):
     return abs(theta - problem.target(k)[0])
 
 
+def _curvatures(fa, fm, fb, sa, sm, sb, h):
+    """For each half of [a, b] (a, m = a + h, b = a + 2h), the largest |second derivative| of the
+    cubic Hermite interpolants of a function's values f and slopes s at a, m, b at the ends of that
+    half (where a cubic's, linear, is extreme), both interpolants' at m: local estimates of |f''|."""
+    left, right = 6 * (fm - fa) / h, 6 * (fb - fm) / h
+    at_m = max(abs(-left + 2 * sa + 4 * sm), abs(right - 4 * sm - 2 * sb))
+    return max(abs(left - 4 * sa - 2 * sm), at_m) / h, max(at_m, abs(-right + 2 * sm + 4 * sb)) / h
+
+
 def _examine(problem, family, a, m, b, accept, extended):
     """(split, singular, brackets) for the interval [a.phi, b.phi] with midpoint m: whether it must
     be bisected, and if only because a turning point goes to infinite time inside it (the extremal
     reaches an equilibrium of its arc, a saddle), the nearest approach of that turning point to a
-    target; and the brackets (phi_lo, phi_hi, label, branch, time) it resolves. A turning point
-    present at some of a, m, b only is first looked for by integrating the others to `extended`.
-    A turning point whose sampled times, less NEAR times their variation, stay after `accept` is
-    not examined (its time cannot dip before it between the samples)."""
+    target; and the brackets (phi_lo, phi_hi, label, branch, time) it resolves (none if it is split
+    and will be examined again in its halves). A turning point present at some of a, m, b only is
+    first looked for by integrating the others to `extended`.
+
+    The bound (the module's docstring): on each half [x0, x1] (width h) of the interval, with
+    |f''| <= M = CURVATURE * _curvatures, f = theta_label stays within M h^2 / 8 of the
+    chord of its end values, and f' keeps the sign of its end slopes s0, s1 if s0 s1 > 0 and
+    |s0 + s1| > M h (f' >= (s0 + s1 - M h) / 2 there). A half is resolved when the first excludes
+    every target, or the second holds: then a target is crossed once or not at all, as the end
+    values say. The turning point's time t_label is bounded alike: a half whose least time, less
+    M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept`: where a, m, b see the
+    same turning points, a half where it may have two zeros may hide one no sample sees, and is split."""
     split, singular, brackets = False, math.inf, []
+    h = 0.5 * (b.phi - a.phi)
+    # the turning points before the acceptance t_a change on [a, b] only where one crosses it, a zero
+    # of omega(t_a, phi): where a, m, b see the same ones, a half where omega(t_a, .) has no zero, or
+    # one (monotone), hides none (where a sample lacks t_a, from an earlier scan's horizon, the latest
+    # end the three share stands for it); where they differ, the labels below decide
+    alike = a.events.keys() == m.events.keys() == b.events.keys()
+    common = set(a.ends) & set(m.ends) & set(b.ends)
+    if not common:
+        common = {max(a.duration, m.duration, b.duration)}
+        for s in (a, m, b):
+            if s.duration < max(common):
+                s.integrate(family, max(common))
+    end = accept if accept in common else max(common)
+    (wa, dwa), (wm, dwm), (wb, dwb) = a.ends[end], m.ends[end], b.ends[end]
+    for w0, w1, s0, s1, curvature in zip((wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb),
+                                         _curvatures(wa, wm, wb, dwa, dwm, dwb, h)):
+        bound = CURVATURE * curvature
+        if not (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
+                or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)) and b.phi - a.phi > 2 * MIN_WIDTH and alike:
+            split = True
     for label in set(a.events) | set(m.events) | set(b.events):
         values = [s.events.get(label) for s in (a, m, b)]
-        if None not in values and min(v[0] for v in values) - NEAR * (
-                abs(values[1][0] - values[0][0]) + abs(values[2][0] - values[1][0])) > accept:
-            continue
         if None in values:
             for s, v in zip((a, m, b), values):
                 if v is None and s.duration < extended:
@@ -403,29 +482,53 @@ def _examine(problem, family, a, m, b, accept, extended):
                 singular = min(singular, *(_distance(problem, v[1]) for v in values if v is not None))
                 continue
         (ta, tha), (tm, thm), (tb, thb) = values
-        e = abs(thm - 0.5 * (tha + thb))
-        reach = NEAR * (abs(thm - tha) + abs(thb - thm))      # how far a narrow excursion could go
-        ks = _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach)
-        if not ks:
-            continue
-        monotone = (tha <= thm <= thb) or (tha >= thm >= thb)
-        if len(ks) > 1 or not monotone or e > LINEAR * abs(thb - tha):
+        (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
+        early = (min(ta, tm) <= accept, min(tm, tb) <= accept)
+        if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
+            reach_t = [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
+            early = (not min(ta, tm) - reach_t[0] > accept, not min(tm, tb) - reach_t[1] > accept)
+            if not (early[0] or early[1]):  # the turning point's time stays after the acceptance
+                continue
+        bounds = _curvatures(tha, thm, thb, dtha, dthm, dthb, h)
+        found, resolved = [], math.isfinite(bounds[0] + bounds[1])
+        reach = CURVATURE * max(bounds) * h * h / 8
+        if resolved and not _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach):
+            continue                        # no target within reach on either half
+        for x0, x1, t0, t1, f0, f1, s0, s1, bound, early_half in (
+                (a.phi, m.phi, ta, tm, tha, thm, dtha, dthm, CURVATURE * bounds[0], early[0]),
+                (m.phi, b.phi, tm, tb, thm, thb, dthm, dthb, CURVATURE * bounds[1], early[1])):
+            if not (resolved and early_half):
+                continue
+            reach = bound * h * h / 8
+            ks = _targets(problem, min(f0, f1) - reach, max(f0, f1) + reach)
+            if not ks:
+                continue
+            if not (s0 * s1 > 0 and abs(s0 + s1) > bound * h):
+                resolved = False
+                break
+            for k in ks:
+                target = problem.target(k)[0]
+                if (f0 - target) * (f1 - target) < 0 or f1 == target:
+                    found.append((x0, x1, label, k, max(t0, t1)))
+        if not resolved:
             split = True
             # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
             # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
             jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
             singular = min(singular, *(_distance(problem, th) for th in (tha, thm, thb))) if jump else -1.0
             continue
-        target = problem.target(ks[0])[0]
-        for (p0, t0, th0), (p1, t1, th1) in (((a.phi, ta, tha), (m.phi, tm, thm)), ((m.phi, tm, thm), (b.phi, tb, thb))):
-            if ((th0 - target) * (th1 - target) < 0 or th1 == target) and min(t0, t1) <= accept:
-                brackets.append((p0, p1, label, ks[0], max(t0, t1)))
+        brackets += found
+    if split and b.phi - a.phi > 2 * MIN_WIDTH:
+        brackets = []           # found again in the halves
     return split, singular, brackets
 
 
-def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
+def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=None):
     """(phi, switches, turning point, Taylor steps to it) of the extremal whose turning point `label`
-    reaches the target of `branch`, phi in [lo, hi] (a sign change), or None."""
+    reaches the target of `branch`, phi in [lo, hi] (a sign change), or None: safeguarded Newton on
+    g(phi) = theta_label(phi) - theta*, g' = dtheta_label/dphi, from `near` (a root at another
+    accuracy) or the root of the cubic Hermite interpolant of the scan's samples at lo and hi, kept
+    in the bracket (bisection where a step would leave it), to 4 eps |phi| as Brent's method."""
     target = problem.target(branch)[0]
     duration = 1.05 * t_guess + 0.1
 
@@ -435,30 +538,72 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy):
             _, switches, _, events, _ = family.run(phi, u0, duration, accuracy)
             hit = [e for e in events if (int(e[2]), int(e[3])) == label]
             if hit or duration > 2 * t_guess + 10:
-                return (hit[0] if hit else None), switches
+                return (hit[0].copy() if hit else None), switches.copy()
             duration *= 1.5
 
-    def g(phi):
-        event, _ = turning_point(phi)
-        return math.nan if event is None else event[1] - target
-
-    ga, gb = g(lo), g(hi)
+    ends = [family._samples.get((phi, u0)) for phi in (lo, hi)]
+    if all(s is not None and label in s.events for s in ends):
+        (ga, da), (gb, db) = ((s.events[label][1] - target, s.slopes[label][1]) for s in ends)
+    else:
+        (ea, _), (eb, _) = turning_point(lo), turning_point(hi)
+        if ea is None or eb is None:
+            return None
+        (ga, da), (gb, db) = (ea[1] - target, ea[6]), (eb[1] - target, eb[6])
     if not ga * gb <= 0:
         return None
-    phi = brent(g, lo, hi, 1e-17, ga, gb)
-    event, switches = turning_point(phi)
-    return None if event is None else (phi, switches, event, family.steps_per_time * event[0])
+    phi = _hermite_root(lo, hi, ga, gb, da, db) if near is None else min(max(near, lo), hi)
+    negative_lo = ga < 0 if ga != 0 else gb > 0
+    best, previous = None, math.inf
+    for _ in range(NEWTON_ITERATIONS):
+        event, switches = turning_point(phi)
+        if event is None:
+            return None
+        g, slope = event[1] - target, event[6]
+        if best is None or abs(g) < best[0]:
+            best = (abs(g), phi, switches, event)
+        if g == 0:
+            break
+        if (g < 0) == negative_lo:
+            lo = phi
+        else:
+            hi = phi
+        following = phi - g / slope if slope != 0 else math.nan
+        if not lo <= following <= hi:
+            following = 0.5 * (lo + hi)
+        step = abs(following - phi)
+        # converged, or at the rounding floor (a Newton step that no longer halves, already tiny)
+        if step <= 4 * EPS * abs(phi) or (step > 0.5 * previous and step < NEWTON_FLOOR * max(1.0, abs(phi))):
+            break
+        phi, previous = following, step
+    else:
+        return None
+    _, phi, switches, event = best
+    return phi, switches, event, family.steps_per_time * event[0]
+
+
+def _hermite_root(lo, hi, ga, gb, da, db):
+    """The root in [lo, hi] of the cubic Hermite interpolant of g (values ga, gb of opposite signs,
+    slopes da, db at lo, hi), by a few safeguarded Newton steps on the cubic from the secant's root."""
+    h = hi - lo
+    c0, c1 = ga, da * h
+    c2, c3 = 3 * (gb - ga) - (2 * da + db) * h, 2 * (ga - gb) + (da + db) * h
+    x = ga / (ga - gb) if ga != gb else 0.5
+    a, b = 0.0, 1.0
+    for _ in range(8):
+        value = c0 + x * (c1 + x * (c2 + x * c3))
+        if (value < 0) == (ga < 0):
+            a = x
+        else:
+            b = x
+        slope = c1 + x * (2 * c2 + 3 * x * c3)
+        following = x - value / slope if slope != 0 else 0.5 * (a + b)
+        x = following if a < following < b else 0.5 * (a + b)
+    return lo + x * h
 
 
 def _polish(family, problem, u0, label, branch, near, lo, hi, t_guess, accuracy):
-    """_root at `accuracy` in a bracket grown around `near` (a root at a lower accuracy) inside [lo, hi]."""
-    width = 1e-9 * max(1.0, abs(near))
-    while True:
-        a, b = max(lo, near - width), min(hi, near + width)
-        found = _root(family, problem, u0, label, branch, a, b, t_guess, accuracy)
-        if found is not None or (a == lo and b == hi):
-            return found
-        width *= 100
+    """_root at `accuracy` from `near` (a root at another accuracy), in the bracket [lo, hi]."""
+    return _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near)
 
 
 def _arrival(x0, kappa, u0, branch, label, solution, error_of, solved, original=None):

@@ -155,3 +155,14 @@ def test_a_turning_point_seen_by_no_sample_is_looked_for_where_omega_at_the_acce
     for omegas, slopes, split in (((0.5, 0.4, 0.5), (-1.0, 0.0, 1.0), False), ((0.5, 0.4, 0.5), (-10.0, 0.0, 10.0), True)):
         a, m, b = (fake_sample(phi, 2.0 + phi, 1.0, (w, s)) for phi, w, s in zip((0.0, 0.1, 0.2), omegas, slopes))
         assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
+
+
+def test_a_start_at_rest_on_an_equilibrium_of_one_control_scans_the_other_half_only():
+    """From (-pi/2, 0) at kappa = 1, u = -1 balances gravity (kappa u = sin theta0): p . f(x0, -1) = 0
+    for every costate angle, so no normal extremal starts with u = -1. That half is left out (it made
+    the scan of 9dbe8e5 run without end, growing past 11 GB). T = 3.535197 and the damping's 2.3673
+    are fbabb19's search, which scanned that half and found nothing in it."""
+    assert [u0 for _, _, u0 in S.admissible_intervals((-math.pi / 2, 0.0), 1.0)] == [1]
+    swing_up, damping = (S.search(make(kind, 1.0, (-math.pi / 2, 0.0)), margin=1.0) for kind in ("swing-up", "damping"))
+    assert swing_up.status == damping.status == "optimal"
+    assert swing_up.best.T == pytest.approx(3.535197, abs=1e-6) and damping.best.T == pytest.approx(2.3673, abs=1e-4)

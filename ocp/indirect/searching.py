@@ -401,6 +401,8 @@ def admissible_intervals(x0, kappa):
     out = []
     for u0, start in ((1, 0.0), (-1, math.pi)):
         # p . f = omega0 cos(phi) + (kappa*u0 - sin(theta0)) sin(phi) = R cos(phi - alpha) > 0
+        if omega0 == 0.0 and kappa * u0 == math.sin(theta0):
+            continue                # at rest on an equilibrium of u0: p . f = 0 for every phi, no normal extremal
         alpha = math.atan2(kappa * u0 - math.sin(theta0), omega0)
         s = (alpha - math.pi / 2 - start) % (2 * math.pi)
         lo, hi = (start + s, start + math.pi) if s < math.pi else (start, start + s - math.pi)

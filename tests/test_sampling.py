@@ -68,7 +68,7 @@ def test_a_direct_answer_is_sampled_on_its_own_grid(sol):
 
 
 def test_a_failed_solve_has_nothing_to_sample():
-    failed = ocp.solve(ocp.swing_up(1.0), ocp.MultipleShooting(N=8, M=1), search=False)
+    failed = ocp.solve(ocp.swing_up(1.0), ocp.MultipleShooting(N=8, M=1), options={"ipopt.max_iter": 1}, search=False)
     with pytest.raises(InputError, match="no answer"):
         failed.sample(every=0.1)
 

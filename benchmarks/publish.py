@@ -33,7 +33,7 @@ Parts (all by default, in this order):
                    --processes (whole ocp solve processes and the search alone on the standard
                    cases) -> the table "How long things take" in README.md
 
-Each part records, in benchmarks/results/published.json, the commit it measured, the command, the
+Each part records, as soon as it ends, in benchmarks/results/published.json, the commit it measured, the command, the
 environment (`ocp.bench.environment`), the time, and the code it ran: every project file its
 commands imported, keyed by the hash of its code (`benchmarks/measured.py`: docstrings and help
 texts do not count), and the package data (`data`). The generated blocks of the two READMEs are
@@ -346,11 +346,10 @@ def main():
         else:
             records[part] = timings(commit, records, args.time_tests, previous)
         records[part].update(code=dict(sorted(RAN.items())), data=data_hashes())
-    manifest = {**previous, **records}
-    manifest = {p: manifest[p] for p in PARTS if p in manifest}
-    MANIFEST.write_text(json.dumps(manifest, indent=1) + "\n")
-    print(f"publish: wrote {MANIFEST.relative_to(ROOT)} ({', '.join(records)} at {commit[:12]}); commit the results",
-          file=sys.stderr)
+        manifest = {**previous, **records}                # written after each part: a later failure keeps it
+        MANIFEST.write_text(json.dumps({p: manifest[p] for p in PARTS if p in manifest}, indent=1) + "\n")
+        print(f"publish: wrote {MANIFEST.relative_to(ROOT)} ({part} at {commit[:12]}); commit the results",
+              file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -45,7 +45,12 @@ and slopes at a, m, b (a pair of arrivals born at a fold between two samples) co
 not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
 states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split. Intervals are not split
-below MIN_WIDTH; such an interval that is still unresolved is reported. Each bracketed arrival is
+below MIN_WIDTH; such an interval that is still unresolved is reported, as is a bracket whose root
+is not found (a sign change that is a jump, not a crossing). The labels are examined in time order
+along the extremal: once one is after the acceptance on a whole half, so is every later one. The
+acceptance itself falls as arrivals are bracketed, to the runner-up's latest time (or 1 + margin
+times the best's: `_acceptance`), so that a fast start, whose turning points cross hundreds of
+targets within 20 % of the best time, solves two of them, not all. Each bracketed arrival is
 solved by safeguarded Newton in phi on theta_label - theta* (its slope from the variational
 equations; bisection where a step would leave the bracket), with the SCAN integration from the root
 of the cubic Hermite interpolant at the bracket's ends, then from that root with CHECK, and again
@@ -63,8 +68,9 @@ damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under th
 moving start near the upright is still scanned forwards, and may be slow: each extremal that
 reaches a saddle is isolated by bisection to MIN_WIDTH (2 log2(pi / (SAMPLES MIN_WIDTH)) extremals
 each), and their number grows with the horizon (hundreds for the damping from (2.5, -0.3) at
-kappa = 0.1); from a fast start the turning points cross hundreds of targets within 20 % of the
-best time, each an arrival solved. `time_limit` ends a scan with the best arrival so far
+kappa = 0.1); a fast start is slow where its horizon is well past the best time (the scans
+before the first arrival grow it by GROWTH): swing-up from (0, 50) at kappa = 1, 2e3 extremals at
+horizon 65, 2e4 at 84. `time_limit` ends a scan with the best arrival so far
 (status "stopped", not proven optimal).
 """
 
@@ -176,8 +182,8 @@ class Coverage:
     every extremal before `horizon` compared): the acceptance `horizon`, the admissible phi
     `intervals` (lo, hi, u0) scanned, the number of extremals integrated (from t = 0, by this scan and the
     search's earlier ones: a sample extended from where it ended counts once), the finest phi spacing
-    reached, the intervals left unresolved at MIN_WIDTH (phi_lo, phi_hi, the nearest approach of a
-    turning point to a target there, -1 if unknown), and the `singular` intervals: isolated to
+    reached, the intervals left unresolved at MIN_WIDTH or bracketed without a root (phi_lo, phi_hi,
+    the nearest approach of a turning point to a target there, -1 if unknown), and the `singular` intervals: isolated to
     MIN_WIDTH around an extremal that reaches a saddle of its arc's field, whose turning point there
     stays at least FAR from every target (phi_lo, phi_hi, its distance). The lists keep the first
     LISTED; `n_unresolved`, `n_singular` count them all. `stopped`: the time limit ended the scan
@@ -433,13 +439,15 @@ def _curvatures(fa, fm, fb, sa, sm, sb, h):
     return max(abs(left - 4 * sa - 2 * sm), at_m) / h, max(at_m, abs(-right + 2 * sm + 4 * sb)) / h
 
 
-def _examine(problem, family, a, m, b, accept, extended):
+def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     """(split, singular, brackets) for the interval [a.phi, b.phi] with midpoint m: whether it must
     be bisected, and if only because a turning point goes to infinite time inside it (the extremal
     reaches an equilibrium of its arc, a saddle), the nearest approach of that turning point to a
-    target; and the brackets (phi_lo, phi_hi, label, branch, time) it resolves (none if it is split
-    and will be examined again in its halves). A turning point present at some of a, m, b only is
-    first looked for by integrating the others to `extended`.
+    target; and the brackets (phi_lo, phi_hi, label, branch, time, (earliest, latest)) it resolves
+    (none if it is split and will be examined again in its halves; time: the later end's, earliest and
+    latest: the bounds of the turning point's time on the bracket). Arrivals are sought before
+    `arrive` (default `accept`, the time of the omega check below). A turning point present at some of
+    a, m, b only is first looked for by integrating the others to `extended`.
 
     The bound (the module's docstring): on each half [x0, x1] (width h) of the interval, with
     |f''| <= M = CURVATURE * _curvatures, f = theta_label stays within M h^2 / 8 of the
@@ -450,6 +458,7 @@ def _examine(problem, family, a, m, b, accept, extended):
     M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept`: where a, m, b see the
     same turning points, a half where it may have two zeros may hide one no sample sees, and is split."""
     split, singular, brackets = False, math.inf, []
+    arrive = accept if arrive is None else arrive
     h = 0.5 * (b.phi - a.phi)
     # the turning points before the acceptance t_a change on [a, b] only where one crosses it, a zero
     # of omega(t_a, phi): where a, m, b see the same ones, a half where omega(t_a, .) has no zero, or
@@ -470,7 +479,12 @@ def _examine(problem, family, a, m, b, accept, extended):
         if not (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
                 or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)) and b.phi - a.phi > 2 * MIN_WIDTH and alike:
             split = True
-    for label in set(a.events) | set(m.events) | set(b.events):
+    # labels in time order along an extremal, (arc, index in arc): once a label's turning point is
+    # after the acceptance on a whole half, every later one is too (at each phi, later in time)
+    late = [False, False]
+    for label in sorted(set(a.events) | set(m.events) | set(b.events)):
+        if late[0] and late[1]:
+            break
         values = [s.events.get(label) for s in (a, m, b)]
         if None in values:
             for s, v in zip((a, m, b), values):
@@ -478,17 +492,19 @@ def _examine(problem, family, a, m, b, accept, extended):
                     s.integrate(family, extended)
             values = [s.events.get(label) for s in (a, m, b)]
             if None in values:
-                if min(v[0] for v in values if v is not None) > accept + DIP * (extended / EXTEND - accept):
+                if min(v[0] for v in values if v is not None) > arrive + DIP * (extended / EXTEND - arrive):
                     continue
                 split = True
                 singular = min(singular, *(_distance(problem, v[1]) for v in values if v is not None))
                 continue
         (ta, tha), (tm, thm), (tb, thb) = values
         (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
-        early = (min(ta, tm) <= accept, min(tm, tb) <= accept)
+        early = (min(ta, tm) <= arrive and not late[0], min(tm, tb) <= arrive and not late[1])
+        reach_t = [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
         if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
-            reach_t = [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
-            early = (not min(ta, tm) - reach_t[0] > accept, not min(tm, tb) - reach_t[1] > accept)
+            early = (not (late[0] or min(ta, tm) - reach_t[0] > arrive),
+                     not (late[1] or min(tm, tb) - reach_t[1] > arrive))
+            late = [not e for e in early]
             if not (early[0] or early[1]):  # the turning point's time stays after the acceptance
                 continue
         bounds = _curvatures(tha, thm, thb, dtha, dthm, dthb, h)
@@ -496,9 +512,9 @@ def _examine(problem, family, a, m, b, accept, extended):
         reach = CURVATURE * max(bounds) * h * h / 8
         if resolved and not _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach):
             continue                        # no target within reach on either half
-        for x0, x1, t0, t1, f0, f1, s0, s1, bound, early_half in (
-                (a.phi, m.phi, ta, tm, tha, thm, dtha, dthm, CURVATURE * bounds[0], early[0]),
-                (m.phi, b.phi, tm, tb, thm, thb, dthm, dthb, CURVATURE * bounds[1], early[1])):
+        for x0, x1, t0, t1, f0, f1, s0, s1, bound, early_half, spread in (
+                (a.phi, m.phi, ta, tm, tha, thm, dtha, dthm, CURVATURE * bounds[0], early[0], reach_t[0]),
+                (m.phi, b.phi, tm, tb, thm, thb, dthm, dthb, CURVATURE * bounds[1], early[1], reach_t[1])):
             if not (resolved and early_half):
                 continue
             reach = bound * h * h / 8
@@ -511,7 +527,7 @@ def _examine(problem, family, a, m, b, accept, extended):
             for k in ks:
                 target = problem.target(k)[0]
                 if (f0 - target) * (f1 - target) < 0 or f1 == target:
-                    found.append((x0, x1, label, k, max(t0, t1)))
+                    found.append((x0, x1, label, k, max(t0, t1), (min(t0, t1) - spread, max(t0, t1) + spread)))
         if not resolved:
             split = True
             # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
@@ -530,7 +546,10 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=No
     reaches the target of `branch`, phi in [lo, hi] (a sign change), or None: safeguarded Newton on
     g(phi) = theta_label(phi) - theta*, g' = dtheta_label/dphi, from `near` (a root at another
     accuracy) or the root of the cubic Hermite interpolant of the scan's samples at lo and hi, kept
-    in the bracket (bisection where a step would leave it), to 4 eps |phi| as Brent's method."""
+    in the bracket (bisection where a step would leave it), to 4 eps |phi| as Brent's method. The
+    last iterate is a root only if a Newton step from it, |g / g'|, stays within the final bracket
+    (or the rounding floor): else the sign change is a jump of g, not a crossing (near an abnormal
+    extremal, where a switch and a turning point swap order and the labels renumber), and None."""
     target = problem.target(branch)[0]
     duration = 1.05 * t_guess + 0.1
 
@@ -580,6 +599,8 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=No
     else:
         return None
     _, phi, switches, event = best
+    if abs(event[1] - target) > abs(event[6]) * max(hi - lo, NEWTON_FLOOR * max(1.0, abs(phi))):
+        return None
     return phi, switches, event, family.steps_per_time * event[0]
 
 
@@ -658,15 +679,28 @@ def _distinct(arrivals):
     return kept
 
 
-def scan(problem, horizon, original=None, clock=None, halves=2, family=None):
-    """(arrivals, Coverage) of every extremal reaching the target before horizon * (1 - HORIZON_BAND)
-    (`original`: `problem` is `_Backward(original)`, the arrivals are read forwards; `halves` = 1:
-    the first admissible half-circle only; `clock`: a _Clock whose time limit may end the scan;
-    `family`: the _Family of `problem` of an earlier scan, whose samples are reused)."""
+def _acceptance(bounds, margin):
+    """The acceptance that bracketed arrivals with time bounds [(earliest, latest)] allow: with B the
+    least latest bound (the best time T* <= B), (1 + margin) B, which every arrival within margin of
+    the best precedes, and for margin <= MARGIN (the runner-up only) also the least latest bound of
+    an arrival whose earliest is after B (1 + TIE_WINDOW): no tie of the best, so the runner-up
+    precedes it."""
+    best = min(latest for _, latest in bounds)
+    later = [latest for earliest, latest in bounds if earliest > best * (1 + TIE_WINDOW)]
+    return min([(1 + margin) * best] + (later if margin <= MARGIN else []))
+
+
+def scan(problem, horizon, original=None, clock=None, halves=2, family=None, margin=MARGIN):
+    """(arrivals, Coverage) of every extremal reaching the target before the acceptance: horizon *
+    (1 - HORIZON_BAND), lowered as arrivals are bracketed (`_acceptance`); the Coverage's horizon is
+    the acceptance reached (`original`: `problem` is `_Backward(original)`, the arrivals
+    are read forwards; `halves` = 1: the first admissible half-circle only; `clock`: a _Clock whose
+    time limit may end the scan; `family`: the _Family of `problem` of an earlier scan, whose samples
+    are reused)."""
     start = time.perf_counter()
     clock = clock or _Clock(None, None)
     family = family or _Family(problem.x0, problem.kappa)
-    accept = horizon * (1 - HORIZON_BAND)
+    accept = arrive = horizon * (1 - HORIZON_BAND)
     intervals = admissible_intervals(problem.x0, problem.kappa)[:halves]
     brackets, unresolved, singular, finest = [], [], [], math.inf
     for lo, hi, u0 in intervals:
@@ -679,8 +713,10 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None):
         while stack and not clock.tick(horizon, u0, stack[-1][0].phi, family.count, len(brackets)):
             a, b = stack.pop()
             m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
-            split, closest, found = _examine(problem, family, a, m, b, accept, EXTEND * horizon)
+            split, closest, found = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
             brackets += [(u0, f) for f in found]
+            if found:
+                arrive = min(arrive, _acceptance([f[5] for _, f in brackets], margin))
             finest = min(finest, 0.5 * (b.phi - a.phi))
             if split and b.phi - a.phi > 2 * MIN_WIDTH:
                 stack += [(a, m), (m, b)]
@@ -691,12 +727,14 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None):
     # every arrival solved to CHECK accuracy (its error: the change from SCAN), ranked; the best, those
     # within TIE_WINDOW of it and the runner-up then to PRECISE (their error: the change from CHECK)
     solved = []
-    for u0, (lo, hi, label, branch, t_guess) in brackets:
+    for u0, (lo, hi, label, branch, t_guess, (earliest, _)) in brackets:
+        if earliest > arrive:
+            continue                        # bracketed before the acceptance was lowered below it
         rough = _root(family, problem, u0, label, branch, lo, hi, t_guess, taylor.SCAN)
-        if rough is None:
-            continue
-        check = _polish(family, problem, u0, label, branch, rough[0], lo, hi, t_guess, taylor.CHECK)
-        if check is not None and check[2][0] <= accept:
+        check = rough and _polish(family, problem, u0, label, branch, rough[0], lo, hi, t_guess, taylor.CHECK)
+        if check is None:
+            unresolved.append((lo, hi, -1.0))   # a bracket without a root: reported, never dropped
+        elif check[2][0] <= arrive:
             solved.append((u0, lo, hi, label, branch, rough, check))
     solved.sort(key=lambda s: s[-1][2][0])
     arrivals = []
@@ -716,7 +754,7 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None):
         arrivals += [_mirrored(original or problem, a) for a in arrivals]
     arrivals = _distinct(sorted(arrivals, key=lambda r: r.T))
     reading = ("backwards" if original is not None else "forwards") + (" + mirror" if halves == 1 else "")
-    coverage = Coverage(accept, tuple(intervals), family.count, finest, tuple(unresolved[:LISTED]),
+    coverage = Coverage(arrive, tuple(intervals), family.count, finest, tuple(unresolved[:LISTED]),
                         tuple(singular[:LISTED]), time.perf_counter() - start, "scan", len(unresolved),
                         len(singular), clock.stopped, reading)
     return arrivals, coverage
@@ -802,7 +840,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
         horizon = min(max(GROWTH * scanned.lower_bound, guess), MAX_HORIZON)
     notes, done, family = [], None, _Family(scanned.x0, scanned.kappa)
     while True:
-        arrivals, coverage = scan(scanned, horizon, original, clock, halves, family)
+        arrivals, coverage = scan(scanned, horizon, original, clock, halves, family, margin)
         if clock.stopped:
             if done is not None:        # the previous scan was complete: only the runner-up's extension was cut
                 return Search(*done, tuple(notes + ["the time limit cut the scan for the runner-up"]))

@@ -314,8 +314,8 @@ class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
     index in arc) -> (t, theta) in `events` and their derivatives in phi -> (dt/dphi,
     dtheta/dphi) in `slopes`, its angular velocity and that's derivative in phi at the end of each
-    integration, duration -> (omega, domega/dphi) in `ends`, and where the integration ended (to
-    extend it from there)."""
+    integration and at its acceptance time, t -> (omega, domega/dphi) in `ends`, and where the
+    integration ended (to extend it from there)."""
 
     __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end")
 

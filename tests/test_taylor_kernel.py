@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from ocp.indirect import taylor
+from ocp.indirect import _taylor, taylor
 
 
 # ---- the plain-Python transliteration (the numba kernels the C code replaced, run as Python) ----
@@ -196,6 +196,33 @@ def test_the_kernel_refuses_arrays_of_the_wrong_shape():
         taylor.extremal(y0, 1.0, 1.0, 1.0, 1.0, 1e-9, 1, ok, np.empty((4, 6)), np.empty(0), np.empty((0, 3)))
 
 
+@pytest.mark.parametrize("bad, error, words", [
+    (dict(y=np.zeros(4, dtype=np.float32)), ValueError, "y: a float64 array of shape \\(4,\\)"),
+    (dict(y=np.zeros(8)[::2]), TypeError, "y: a C-contiguous writable float64"),
+    (dict(y=np.zeros(3)), ValueError, "y: a float64 array of shape \\(4,\\)"),
+    (dict(y=[0.0, 0.0, 1.0, 0.0]), TypeError, "y: a C-contiguous writable"),
+    (dict(dy=np.zeros(4).reshape(2, 2)), ValueError, "dy: .* shape \\(4,\\)"),
+    (dict(switches=np.empty((6, 4)).T), TypeError, "switches: a C-contiguous"),
+    (dict(switches=np.empty((4, 5))), ValueError, "switches: .* shape \\(n, 6\\)"),
+    (dict(events=np.empty((4, 8), dtype=np.int64)), ValueError, "events: a float64"),
+    (dict(events=np.empty((4, 8)).copy(order="F")), TypeError, "events: a C-contiguous"),
+    (dict(marked=np.empty(4)), ValueError, "marked: a float64 array of shape \\(8,\\)"),
+    (dict(marked=np.empty(16)[::2]), TypeError, "marked: a C-contiguous"),
+    (dict(y="read-only"), TypeError, "y: a C-contiguous writable"),
+])
+def test_the_variations_kernel_names_a_wrong_array(bad, error, words):
+    """Every array of the C kernel checked (type, contiguity, writability, shape) before use: a clear
+    exception naming it, the kernel never reached."""
+    read_only = np.zeros(4)
+    read_only.setflags(write=False)
+    arrays = dict(y=np.zeros(4), dy=np.zeros(4), switches=np.empty((4, 6)), events=np.empty((4, 8)),
+                  marked=np.empty(8))
+    arrays.update({k: read_only if isinstance(v, str) else v for k, v in bad.items()})
+    with pytest.raises(error, match=words):
+        _taylor.extremal_variations(arrays["y"], arrays["dy"], 1.0, 1.0, 1.0, 1.0, 1e-9, 11, arrays["switches"],
+                                    arrays["events"], 0.5, arrays["marked"])
+
+
 # ---- the variations ----
 
 START = {1.0: (0.0, 0.0), -1.0: (math.pi, 0.0)}      # forwards from rest below, backwards from the target
@@ -239,3 +266,33 @@ def test_the_variations_are_the_derivatives_of_the_extremal_in_phi(direction, ph
     assert np.all(np.abs(sw[:, 5] - fd(hi[5][:, 0], lo[5][:, 0])) <= scale(sw[:, 5]))
     assert np.all(np.abs(ev[:, 6] - fd(hi[6][:, 1], lo[6][:, 1])) <= scale(ev[:, 6]))
     assert np.all(np.abs(ev[:, 7] - fd(hi[6][:, 0], lo[6][:, 0])) <= scale(ev[:, 7]))
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_mark_is_the_dense_output_of_the_same_steps(case):
+    """(y, dy) at the mark: the integration otherwise bit for bit the one without a mark, theta and
+    omega there bit for bit `extremal`'s sample at that time (the same polynomial at the same tau),
+    and theta, omega and their dy bit for bit those of the integration stopped at the mark (its
+    last step, cut to end there, is the step containing the mark; p, dp differ by the stopped
+    one's normalisation at its end)."""
+    y0, kappa, u_start, duration, direction, tol, K = case
+    phi = math.atan2(y0[3], y0[2])
+    dy0 = np.array([0.0, 0.0, -math.sin(phi), math.cos(phi)])
+    mark = 0.8 * duration
+
+    def run(duration, mark=None):
+        sw, ev = np.full((40, 6), np.nan), np.full((40, 8), np.nan)
+        out = taylor.extremal_variations(np.array(y0), dy0, kappa, u_start, duration, direction, tol, K, sw, ev, mark)
+        return out, sw, ev
+
+    (plain, sw, ev), (marked, sw_m, ev_m) = run(duration), run(duration, mark)
+    n_sw, n_ev, y, dy, u, steps, (y_m, dy_m) = marked
+    assert (n_sw, n_ev, u, steps) == (plain[0], plain[1], plain[4], plain[5])
+    assert _bits(y) == _bits(plain[2]) and _bits(dy) == _bits(plain[3])
+    assert _bits(sw) == _bits(sw_m) and _bits(ev) == _bits(ev_m)
+    sa = np.empty((1, 3))
+    taylor.extremal(np.array(y0), kappa, u_start, duration, direction, tol, K, np.empty((40, 5)), np.empty((40, 6)),
+                    np.array([mark]), sa)
+    assert _bits(y_m[:2]) == _bits(sa[0, :2])
+    (_, _, y_s, dy_s, _, _), _, _ = run(mark)
+    assert _bits(y_m[:2]) == _bits(y_s[:2]) and _bits(dy_m[:2]) == _bits(dy_s[:2])

@@ -189,7 +189,9 @@ typedef struct {
 
 #define T(t, r, j) ((t).v[(t).cols * (r) + (j)])
 
-/* The integration of `extremal` (dy NULL: without variations; sample_t, samples: n_samples rows). */
+/* The integration of `extremal` (dy NULL: without variations; sample_t, samples: n_samples rows; marked
+ * non-NULL: y, and dy with the variations, at the elapsed time mark, by the series of the step that
+ * contains it, mark in (t, t + h]: the steps are the same as without). */
 typedef struct {
     int n_sw, n_ev, steps;
     double u;
@@ -197,7 +199,7 @@ typedef struct {
 
 static Outcome integrate(Series *w, double *y, double *dy, double kappa, double u_start, double duration,
                          double direction, double tol, Table switches, Table events, const double *sample_t,
-                         Py_ssize_t n_samples, Table samples)
+                         Py_ssize_t n_samples, Table samples, double mark, double *marked)
 {
     const int K = w->K;
     const double *c = w->c, *d = w->d;
@@ -257,6 +259,14 @@ static Outcome integrate(Series *w, double *y, double *dy, double kappa, double 
             T(samples, n_sample, 2) = o.n_sw;
             n_sample++;
         }
+        if (marked && t < mark && mark <= t + fabs(stop)) {
+            double tau = direction * (mark - t);
+            for (int i = 0; i < 4; i++)
+                marked[i] = at(c, K, i, tau);
+            if (d)
+                for (int i = 0; i < 4; i++)
+                    marked[4 + i] = at(d, K, i, tau);
+        }
         for (int i = 0; i < 4; i++)
             y[i] = at(c, K, i, stop);
         if (d)
@@ -310,6 +320,29 @@ static Table table(double *v, Held *h)
 static const Py_ssize_t FOUR[] = {4}, TWO[] = {2}, ANY[] = {-1}, SWITCHES[] = {-1, 5}, EVENTS[] = {-1, 6},
                         SAMPLES[] = {-1, 3}, SWITCHES_VAR[] = {-1, 6}, EVENTS_VAR[] = {-1, 8};
 
+static const Py_ssize_t EIGHT[] = {8};
+
+/* The common end of extremal and extremal_variations: integrate (with the GIL released) in a series
+ * of order K (with the variations where dy), free it, release the buffers, (n_sw, n_ev, u, steps). */
+static PyObject *run(Held *h, int K, double *y, double *dy, double kappa, double u_start, double duration,
+                     double direction, double tol, Table switches, Table events, const double *sample_t,
+                     Py_ssize_t n_samples, Table samples, double mark, double *marked)
+{
+    Series w;
+    if (series_alloc(&w, K, dy != NULL) < 0) {
+        release(h);
+        return NULL;
+    }
+    Outcome o;
+    Py_BEGIN_ALLOW_THREADS
+    o = integrate(&w, y, dy, kappa, u_start, duration, direction, tol, switches, events, sample_t, n_samples,
+                  samples, mark, marked);
+    Py_END_ALLOW_THREADS
+    free(w.c);
+    release(h);
+    return Py_BuildValue("iidi", o.n_sw, o.n_ev, o.u, o.steps);
+}
+
 PyDoc_STRVAR(extremal_doc,
 "extremal(y, kappa, u_start, duration, direction, tol, K, switches, events, sample_t, samples)\n"
 "    -> (n_sw, n_ev, u, steps)\n\n"
@@ -327,7 +360,6 @@ static PyObject *py_extremal(PyObject *self, PyObject *args)
     double *y, *sample_t;
     Table switches, events, samples;
     Py_ssize_t n_samples;
-    Series w = {.c = NULL};
     if (!(y = array(&h, oy, 1, 'd', 1, FOUR, "y")) || !(switches.v = array(&h, osw, 1, 'd', 2, SWITCHES, "switches")))
         goto fail;
     switches = table(switches.v, &h);
@@ -344,38 +376,30 @@ static PyObject *py_extremal(PyObject *self, PyObject *args)
         PyErr_SetString(PyExc_ValueError, "samples: a row for every sample time is needed");
         goto fail;
     }
-    if (series_alloc(&w, K, 0) < 0)
-        goto fail;
-    Outcome o;
-    Py_BEGIN_ALLOW_THREADS
-    o = integrate(&w, y, NULL, kappa, u_start, duration, direction, tol, switches, events, sample_t, n_samples,
-                  samples);
-    Py_END_ALLOW_THREADS
-    free(w.c);
-    release(&h);
-    return Py_BuildValue("iidi", o.n_sw, o.n_ev, o.u, o.steps);
+    return run(&h, K, y, NULL, kappa, u_start, duration, direction, tol, switches, events, sample_t, n_samples,
+               samples, 0.0, NULL);
 fail:
     release(&h);
     return NULL;
 }
 
 PyDoc_STRVAR(variations_doc,
-"extremal_variations(y, dy, kappa, u_start, duration, direction, tol, K, switches, events)\n"
+"extremal_variations(y, dy, kappa, u_start, duration, direction, tol, K, switches, events, mark, marked)\n"
 "    -> (n_sw, n_ev, u, steps)\n\n"
-"ocp.indirect.taylor.extremal_variations, y (4) and dy (4) integrated in place.");
+"ocp.indirect.taylor.extremal_variations, y (4) and dy (4) integrated in place; marked (8, or None):\n"
+"(y, dy) at the elapsed time mark.");
 
 static PyObject *py_variations(PyObject *self, PyObject *args)
 {
-    PyObject *oy, *ody, *osw, *oev;
-    double kappa, u_start, duration, direction, tol;
+    PyObject *oy, *ody, *osw, *oev, *omk;
+    double kappa, u_start, duration, direction, tol, mark;
     int K;
-    if (!PyArg_ParseTuple(args, "OOdddddiOO:extremal_variations", &oy, &ody, &kappa, &u_start, &duration,
-                          &direction, &tol, &K, &osw, &oev) || check_order(K, tol) < 0)
+    if (!PyArg_ParseTuple(args, "OOdddddiOOdO:extremal_variations", &oy, &ody, &kappa, &u_start, &duration,
+                          &direction, &tol, &K, &osw, &oev, &mark, &omk) || check_order(K, tol) < 0)
         return NULL;
     Held h = {.n = 0};
-    double *y, *dy;
+    double *y, *dy, *marked = NULL;
     Table switches, events, none = {NULL, 0, 3};
-    Series w = {.c = NULL};
     if (!(y = array(&h, oy, 1, 'd', 1, FOUR, "y")) || !(dy = array(&h, ody, 1, 'd', 1, FOUR, "dy")) ||
         !(switches.v = array(&h, osw, 1, 'd', 2, SWITCHES_VAR, "switches")))
         goto fail;
@@ -383,15 +407,10 @@ static PyObject *py_variations(PyObject *self, PyObject *args)
     if (!(events.v = array(&h, oev, 1, 'd', 2, EVENTS_VAR, "events")))
         goto fail;
     events = table(events.v, &h);
-    if (series_alloc(&w, K, 1) < 0)
+    if (omk != Py_None && !(marked = array(&h, omk, 1, 'd', 1, EIGHT, "marked")))
         goto fail;
-    Outcome o;
-    Py_BEGIN_ALLOW_THREADS
-    o = integrate(&w, y, dy, kappa, u_start, duration, direction, tol, switches, events, NULL, 0, none);
-    Py_END_ALLOW_THREADS
-    free(w.c);
-    release(&h);
-    return Py_BuildValue("iidi", o.n_sw, o.n_ev, o.u, o.steps);
+    return run(&h, K, y, dy, kappa, u_start, duration, direction, tol, switches, events, NULL, 0, none, mark,
+               marked);
 fail:
     release(&h);
     return NULL;

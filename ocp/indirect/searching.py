@@ -320,8 +320,8 @@ class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
     index in arc) -> (t, theta) in `events` and their derivatives in phi -> (dt/dphi,
     dtheta/dphi) in `slopes`, its angular velocity and that's derivative in phi at the end of each
-    integration, duration -> (omega, domega/dphi) in `ends`, and where the integration ended (to
-    extend it from there)."""
+    integration and at its acceptance time, t -> (omega, domega/dphi) in `ends`, and where the
+    integration ended (to extend it from there)."""
 
     __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end")
 
@@ -331,16 +331,13 @@ class _Sample:
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
-        """Integrated on to `duration`, from where the last integration ended, with a stop at the
-        acceptance time duration * (1 - HORIZON_BAND) of a scan to that horizon (for `ends`)."""
+        """Integrated on to `duration`, from where the last integration ended, in one integration
+        that also records `ends` at the acceptance time duration * (1 - HORIZON_BAND) of a scan to
+        that horizon (the step containing it evaluated there)."""
         accept = duration * (1 - HORIZON_BAND)
-        if self.duration < accept:
-            self._integrate(family, accept)
-        self._integrate(family, duration)
-
-    def _integrate(self, family, duration):
-        n_sw, _, _, events, end = family.run(self.phi, self.u0, duration - self.duration, taylor.SCAN,
-                                              None if self.end is None else self.end[:3])
+        mark = accept - self.duration if self.duration < accept else None
+        n_sw, _, _, events, end, marked = family.run(self.phi, self.u0, duration - self.duration, taylor.SCAN,
+                                                     None if self.end is None else self.end[:3], mark)
         arcs, index = (0, 0) if self.end is None else self.end[3:]
         last = 0
         for t, theta, arc, i, _, _, dtheta, dt in events.tolist():
@@ -349,6 +346,8 @@ class _Sample:
             self.slopes[label] = (dt, dtheta)
             last = last + 1 if arc == n_sw else last
         self.end = (*end, arcs + n_sw, last + (index if n_sw == 0 else 0))
+        if marked is not None:
+            self.ends[accept] = (float(marked[0][1]), float(marked[1][1]))
         self.ends[duration] = (float(end[0][1]), float(end[1][1]))
         self.duration = duration
 
@@ -366,11 +365,12 @@ class _Family:
         self._y0, self._dy0 = np.array([*self.x0, 0.0, 0.0]), np.zeros(4)
         self._samples = {}
 
-    def run(self, phi, u0, duration, accuracy, start=None):
-        """(switch count, switches, event count, events, (final y, final dy/dphi, final u)) of the
-        extremal with costate angle phi, or of its continuation from `start` (a previous run's final
-        (y, dy, u)); the rows of `taylor.extremal_variations`, views of the family's buffers that the
-        next run overwrites (copy what is kept)."""
+    def run(self, phi, u0, duration, accuracy, start=None, mark=None):
+        """(switch count, switches, event count, events, (final y, final dy/dphi, final u), (y, dy)
+        at the elapsed time `mark` or None) of the extremal with costate angle phi, or of its
+        continuation from `start` (a previous run's final (y, dy, u)); the rows of
+        `taylor.extremal_variations`, views of the family's buffers that the next run overwrites
+        (copy what is kept)."""
         tol, order = accuracy
         if start is None:
             y0, dy0, u_start = self._y0, self._dy0, float(u0)
@@ -379,15 +379,15 @@ class _Family:
         else:
             y0, dy0, u_start = start
         while True:
-            n_sw, n_ev, y, dy, u, steps = taylor.extremal_variations(y0, dy0, self.kappa, u_start, duration, 1.0, tol,
-                                                                     order, self._switches, self._events)
+            n_sw, n_ev, y, dy, u, steps, *marked = taylor.extremal_variations(
+                y0, dy0, self.kappa, u_start, duration, 1.0, tol, order, self._switches, self._events, mark)
             if n_sw <= len(self._switches) and n_ev <= len(self._events):
                 break
             self._switches = np.empty((2 * max(n_sw, len(self._switches)), 6))
             self._events = np.empty((2 * max(n_ev, len(self._events)), 8))
         self.count += start is None
         self.steps_per_time = steps / duration
-        return n_sw, self._switches[:n_sw], n_ev, self._events[:n_ev], (y, dy, u)
+        return n_sw, self._switches[:n_sw], n_ev, self._events[:n_ev], (y, dy, u), (marked[0] if marked else None)
 
     def sample(self, phi, u0, duration):
         """The _Sample of phi integrated at least for `duration`: the one of an earlier scan (the
@@ -556,7 +556,7 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=No
     def turning_point(phi):
         nonlocal duration
         while True:
-            _, switches, _, events, _ = family.run(phi, u0, duration, accuracy)
+            _, switches, _, events, _, _ = family.run(phi, u0, duration, accuracy)
             hit = [e for e in events if (int(e[2]), int(e[3])) == label]
             if hit or duration > 2 * t_guess + 10:
                 return (hit[0].copy() if hit else None), switches.copy()

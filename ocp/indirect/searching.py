@@ -690,10 +690,10 @@ def _acceptance(bounds, margin):
     return min([(1 + margin) * best] + (later if margin <= MARGIN else []))
 
 
-def scan(problem, horizon, original=None, clock=None, halves=2, family=None, margin=MARGIN):
+def scan(problem, horizon, original=None, clock=None, halves=2, family=None, margin=MARGIN, floor=0.0):
     """(arrivals, Coverage) of every extremal reaching the target before the acceptance: horizon *
-    (1 - HORIZON_BAND), lowered as arrivals are bracketed (`_acceptance`); the Coverage's horizon is
-    the acceptance reached (`original`: `problem` is `_Backward(original)`, the arrivals
+    (1 - HORIZON_BAND), lowered as arrivals are bracketed (`_acceptance`), never below `floor`; the
+    Coverage's horizon is the acceptance reached (`original`: `problem` is `_Backward(original)`, the arrivals
     are read forwards; `halves` = 1: the first admissible half-circle only; `clock`: a _Clock whose
     time limit may end the scan; `family`: the _Family of `problem` of an earlier scan, whose samples
     are reused)."""
@@ -716,7 +716,7 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
             split, closest, found = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
             brackets += [(u0, f) for f in found]
             if found:
-                arrive = min(arrive, _acceptance([f[5] for _, f in brackets], margin))
+                arrive = min(arrive, max(floor, _acceptance([f[5] for _, f in brackets], margin)))
             finest = min(finest, 0.5 * (b.phi - a.phi))
             if split and b.phi - a.phi > 2 * MIN_WIDTH:
                 stack += [(a, m), (m, b)]
@@ -810,7 +810,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
     """The complete Search of `problem`: scans with a horizon growing by GROWTH from the larger of
     GROWTH * problem.lower_bound and (from rest, on the circle, kappa >= HEADROOM_KAPPA) HEADROOM *
     problem.time_estimate (or
-    from `horizon`, e.g. a feasible time known) until an arrival
+    from `horizon`, e.g. a feasible time known, whose acceptance is then not lowered) until an arrival
     is found, then once more to the best time times (1 + margin) if the scan stopped short of it and
     (with margin <= MARGIN, whose purpose is the runner-up) found no runner-up: a wider margin (the
     bench's references, the reference set) asks for every arrival before (1 + margin) times the best. A start at rest in the upper half with the target below is scanned
@@ -832,6 +832,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
         return Search((found,), coverage, (f"the start is within {near.NEAR_SCALE:g} rad of branch {k}: "
                                            "the transfer in closed form",))
     clock = _Clock(time_limit, progress)
+    floor = 0.0 if horizon is None else horizon * (1 - HORIZON_BAND)     # a horizon given is scanned to
     scanned, original = (_Backward.of(problem), problem) if _backwards(problem) else (problem, None)
     halves = 1 if _center(problem) is not None else 2
     if horizon is None:
@@ -840,7 +841,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
         horizon = min(max(GROWTH * scanned.lower_bound, guess), MAX_HORIZON)
     notes, done, family = [], None, _Family(scanned.x0, scanned.kappa)
     while True:
-        arrivals, coverage = scan(scanned, horizon, original, clock, halves, family, margin)
+        arrivals, coverage = scan(scanned, horizon, original, clock, halves, family, margin, floor)
         if clock.stopped:
             if done is not None:        # the previous scan was complete: only the runner-up's extension was cut
                 return Search(*done, tuple(notes + ["the time limit cut the scan for the runner-up"]))

@@ -29,7 +29,7 @@ def plain(x0, kappa, phi, duration, direction):
 
 def varied(x0, kappa, phi, duration, direction):
     switches, events = np.empty((64, 6)), np.empty((256, 8))
-    n_sw, n_ev, y, dy, u, steps = taylor.extremal_variations(*start(x0, phi), kappa, 1.0, duration, direction,
+    n_sw, n_ev, y, dy, u, steps, _ = taylor.extremal_variations(*start(x0, phi), kappa, 1.0, duration, direction,
                                                              *taylor.PRECISE, switches, events)
     return switches[:n_sw].copy(), events[:n_ev].copy(), y, dy, u, steps
 

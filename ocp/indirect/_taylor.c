@@ -318,9 +318,8 @@ static Table table(double *v, Held *h)
 }
 
 static const Py_ssize_t FOUR[] = {4}, TWO[] = {2}, ANY[] = {-1}, SWITCHES[] = {-1, 5}, EVENTS[] = {-1, 6},
-                        SAMPLES[] = {-1, 3}, SWITCHES_VAR[] = {-1, 6}, EVENTS_VAR[] = {-1, 8};
-
-static const Py_ssize_t EIGHT[] = {8};
+                        SAMPLES[] = {-1, 3}, SWITCHES_VAR[] = {-1, 6}, EVENTS_VAR[] = {-1, 8},
+                        EIGHT[] = {8};
 
 /* The common end of extremal and extremal_variations: integrate (with the GIL released) in a series
  * of order K (with the variations where dy), free it, release the buffers, (n_sw, n_ev, u, steps). */

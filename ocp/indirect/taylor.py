@@ -68,16 +68,15 @@ def extremal_variations(y0, dy0, kappa, u_start, duration, direction, tol, K, sw
     Writes switches[i] = (t, theta, omega, p1, p2, ds_s/dphi) and events[i] = (t, theta, arc,
     index in arc, p1, p2, dtheta_e/dphi, ds_e/dphi), ds/dphi = direction * dt/dphi the derivative
     of the elapsed time. Returns (switch count, event count, final y with |p| = 1, final dy, final
-    u, steps), and with an elapsed time `mark` in (0, duration] also (y, dy) there: the series of
-    the step containing it evaluated at it, the steps those without a mark (theta, omega and their
-    dy bit for bit those of an integration stopped at the mark; p, dp there not normalised)."""
+    u, steps, marked): marked is None, or with an elapsed time `mark` in (0, duration] (y, dy) there:
+    the series of the step containing it evaluated at it, the steps those without a mark (theta,
+    omega and their dy bit for bit those of an integration stopped at the mark; p, dp there not
+    normalised)."""
     y, dy = np.array(y0, dtype=float), np.array(dy0, dtype=float)
     marked = None if mark is None else np.full(8, np.nan)
     n_sw, n_ev, u, steps = _taylor.extremal_variations(y, dy, kappa, u_start, duration, direction, tol, K,
                                                        switches, events, -1.0 if mark is None else mark, marked)
-    if marked is None:
-        return n_sw, n_ev, y, dy, u, steps
-    return n_sw, n_ev, y, dy, u, steps, (marked[:4], marked[4:])
+    return n_sw, n_ev, y, dy, u, steps, None if marked is None else (marked[:4], marked[4:])
 
 
 def bang(x0, signs, durations, kappa, tol, K):

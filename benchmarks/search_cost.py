@@ -7,7 +7,7 @@ near the upright, fast starts, a start far out, both readings): `ocp.indirect.se
 (the compiled kernels loaded by a first search), its CPU seconds (the least of `repeats` runs: the
 machine is shared, CPU time is what the search costs), the extremals it integrated, its status,
 T and the switch count. With --before REV the same cases are run, in a subprocess, by the code of
-the git revision REV (exported to a temporary folder), case by case in turn with this code (the
+the git revision REV (exported to a temporary folder and built there, its compiled kernels too), case by case in turn with this code (the
 two sides share the machine's load), and the table shows both and their ratio. A search still
 running at --time-limit seconds (wall) stops there: status "stopped".
 """
@@ -86,10 +86,12 @@ def main():
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
     with tempfile.TemporaryDirectory() as tree:
         sides = [worker(ROOT, args)]
-        if args.before:
-            archive = subprocess.run(["git", "archive", args.before, "ocp"], capture_output=True, check=True, cwd=ROOT).stdout
+        if args.before:     # the revision's package built (its compiled kernels too) into tree/site
+            archive = subprocess.run(["git", "archive", args.before], capture_output=True, check=True, cwd=ROOT).stdout
             subprocess.run(["tar", "-x", "-C", tree], input=archive, check=True)
-            sides.append(worker(tree, args))
+            subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps",
+                            "--target", f"{tree}/site", tree], check=True)
+            sides.append(worker(f"{tree}/site", args))
         rows = [[ask(side, i) for side in sides] for i in range(len(cases))]
         for side in sides:
             side.stdin.close()

@@ -149,7 +149,7 @@ def test_the_interval_test_bounds_a_turning_point_by_its_values_and_slopes(theta
     -20 at the midpoint, against the chord's 1): the bound from the slopes splits the interval."""
     problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
     a, m, b = (fake_sample(phi, th, s) for phi, th, s in zip((0.0, 0.1, 0.2), thetas, slopes))
-    found_split, _, found = S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)
+    found_split, _, found, _ = S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)
     assert found_split == split
     assert [(lo, hi) for lo, hi, *_ in found] == brackets
 
@@ -197,3 +197,65 @@ def test_a_bracket_whose_root_is_not_found_leaves_the_search_incomplete(monkeypa
     monkeypatch.setattr(S, "_root", lambda *args, **kwargs: None)
     arrivals, coverage = S.scan(problem, 6.0)
     assert not arrivals and coverage.n_unresolved > 0 and not coverage.complete
+
+
+def test_the_acceptance_kept_as_brackets_are_added_is_the_one_of_all_of_them():
+    """`_Acceptance.add` against its definition over all brackets at once: with B the least latest
+    bound, the least of (1 + margin) B and (margin <= MARGIN) the latest bounds of the brackets whose
+    earliest is after B (1 + TIE_WINDOW), on random brackets with near ties (earliest within 1e-7
+    relative of another's latest)."""
+    rng = np.random.default_rng(5)
+    for margin in (S.MARGIN, 1.0):
+        for _ in range(200):
+            latest = rng.uniform(10.0, 12.0, rng.integers(1, 12))
+            earliest = np.where(rng.random(latest.size) < 0.3, latest[0] * (1 + rng.uniform(-1e-7, 1e-7, latest.size)),
+                                latest - rng.uniform(0.0, 1.0, latest.size))
+            acceptance = S._Acceptance(margin)
+            for i, (e, l) in enumerate(zip(earliest, latest)):
+                value = acceptance.add(e, l)
+                best = latest[:i + 1].min()
+                later = [l1 for e1, l1 in zip(earliest[:i + 1], latest[:i + 1]) if e1 > best * (1 + S.TIE_WINDOW)]
+                assert value == min([(1 + margin) * best] + (later if margin <= S.MARGIN else []))
+            assert acceptance.best == latest.min()
+
+
+def test_a_scan_far_past_the_best_time_goes_on_to_the_horizon_of_the_acceptance_it_reached():
+    """Swing-up from (0, 20) at kappa = 1 (T = 19.55): scanned to horizon 40, the acceptance falls
+    to the runner-up's time; the extremals sampled after it are integrated to that acceptance's
+    horizon, not to 40, and the best and runner-up are those of a scan to a horizon just past them."""
+    problem = make("swing-up", 1.0, (0.0, 20.0))
+    family = S._Family(problem.x0, problem.kappa)
+    far, far_coverage = S.scan(problem, 40.0, family=family)
+    near, near_coverage = S.scan(problem, far_coverage.horizon / (1 - S.HORIZON_BAND) * 1.01)
+    assert far_coverage.complete and near_coverage.complete
+    assert far_coverage.horizon < 0.9 * 40.0 * (1 - S.HORIZON_BAND)
+    assert [round(a.T, 8) for a in far[:2]] == [round(a.T, 8) for a in near[:2]]
+    durations = {sample.duration for sample in family._samples.values()}
+    assert far_coverage.horizon / (1 - S.HORIZON_BAND) in durations and min(durations) < 40.0
+
+
+def test_labels_past_the_horizon_of_an_extended_sample_are_not_compared():
+    """A sample integrated past the horizon (to look for a turning point another sample lacks) sees
+    the turning points before the horizon that one integrated to it sees, and more after."""
+    family = S._Family((0.0, 0.0), 0.3)
+    extended, plain = S._Sample(family, 1.0, 1, 20.0), S._Sample(family, 1.0, 1, 13.0)
+    extended.integrate(family, 30.0)
+    assert set(extended.seen(13.0)) == set(plain.seen(13.0)) == set(plain.events)
+    assert len(extended.events) > len(plain.events)
+
+
+def test_the_horizon_grows_to_reach_times_the_estimate_not_only_to_the_fixed_limit(monkeypatch):
+    """With the fixed limit below the answer (MAX_HORIZON = 10 against T = 19.55 from (0, 20) at
+    kappa = 1, as 400 is against T = 976 from (0, 50) at kappa = 0.05), the horizon still grows to
+    REACH times Problem.time_estimate; without that (REACH = 0) the search finds nothing."""
+    problem = make("swing-up", 1.0, (0.0, 20.0))
+    monkeypatch.setattr(S, "MAX_HORIZON", 10.0)
+    assert S.search(problem).status == "optimal"
+    monkeypatch.setattr(S, "REACH", 0.0)
+    assert S.search(problem).status == "none"
+
+
+def test_the_plane_brackets_only_its_pinned_branch_however_many_turns_a_label_sweeps():
+    plane, circle = make("swing-up", 0.05, (0.0, 0.0), branch=158), make("swing-up", 0.05, (0.0, 0.0))
+    assert list(S._targets(plane, -1e4, 1e4)) == [158] and list(S._targets(plane, 0.0, 900.0)) == []
+    assert list(S._targets(circle, 0.0, 20.0)) == [0, 1, 2]

@@ -18,7 +18,9 @@ time) or at the horizon. An extremal reaches the target (theta*, 0) exactly when
 points has theta = theta*: arrivals are the roots of theta_label(phi) - theta*_k, for every branch
 k (the circle) or the pinned one (the plane).
 
-The scan samples phi (SAMPLES per half), then bisects adaptively. Every extremal is integrated
+The scan samples phi (SAMPLES per half), then bisects adaptively, best first: an interval split
+is examined again in the order of the earliest turning point that forced the split, so that the
+earliest arrivals are bracketed early and the acceptance falls early (below). Every extremal is integrated
 with its variational equations in phi (`taylor.extremal_variations`): each turning point carries
 its angle theta_label, its time t_label and their slopes in phi. An interval [a, b] with midpoint m
 is resolved when, for every label, each half [x0, x1] (width h) is, by a bound of what theta_label
@@ -49,8 +51,12 @@ below MIN_WIDTH; such an interval that is still unresolved is reported, as is a 
 is not found (a sign change that is a jump, not a crossing). The labels are examined in time order
 along the extremal: once one is after the acceptance on a whole half, so is every later one. The
 acceptance itself falls as arrivals are bracketed, to the runner-up's latest time (or 1 + margin
-times the best's: `_acceptance`), so that a fast start, whose turning points cross hundreds of
-targets within 20 % of the best time, solves two of them, not all. Each bracketed arrival is
+times the best's: `_Acceptance`), so that a fast start, whose turning points cross hundreds of
+targets within 20 % of the best time, solves two of them, not all. When the acceptance falls below
+RESCAN times the scan's own, the scan goes on as if to the horizon of the acceptance reached:
+extremals sampled after are integrated to that horizon, the labels compared and omega checked as
+for a scan to it (omega at the new acceptance integrated again from t = 0 for the extremals sampled
+before, which passed it without a record). Each bracketed arrival is
 solved by safeguarded Newton in phi on theta_label - theta* (its slope from the variational
 equations; bisection where a step would leave the bracket), with the SCAN integration from the root
 of the cubic Hermite interpolant at the bracket's ends, then from that root with CHECK, and again
@@ -68,12 +74,14 @@ damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under th
 moving start near the upright is still scanned forwards, and may be slow: each extremal that
 reaches a saddle is isolated by bisection to MIN_WIDTH (2 log2(pi / (SAMPLES MIN_WIDTH)) extremals
 each), and their number grows with the horizon (hundreds for the damping from (2.5, -0.3) at
-kappa = 0.1); a fast start is slow where its horizon is well past the best time (the scans
-before the first arrival grow it by GROWTH): swing-up from (0, 50) at kappa = 1, 2e3 extremals at
-horizon 65, 2e4 at 84. `time_limit` ends a scan with the best arrival so far
+kappa = 0.1). A fast start costs in the length of its extremals, not in their number, where kappa is
+small: swing-up from (0, 50), 1e3 extremals at kappa = 1 (T = 49), 5e3 of length 500 to 800 at
+kappa = 0.1 (T = 489). `time_limit` ends a scan with the best arrival so far
 (status "stopped", not proven optimal).
 """
 
+import heapq
+import itertools
 import math
 import time
 from dataclasses import dataclass, field
@@ -119,11 +127,17 @@ DIP = 0.5
 FAR = 1e-2
 #: a turning point's angle changing by more than this over the finest spacing is discontinuous there
 JUMP = 1.0
+#: a scan whose acceptance falls below this fraction of its own goes on with that acceptance's
+#: horizon (new extremals integrated to it, omega checked at the acceptance)
+RESCAN = 0.9
 #: the scan extends to the best arrival time times (1 + MARGIN), to report the runner-up
 MARGIN = 0.2
-#: the horizon grows by this factor while no arrival is found, up to MAX_HORIZON
+#: the horizon grows by this factor while no arrival is found, up to the larger of MAX_HORIZON and
+#: REACH times Problem.time_estimate (|omega0| / kappa of braking alone: 1000 from |omega0| = 50 at
+#: kappa = 0.05)
 GROWTH = 1.5
 MAX_HORIZON = 400.0
+REACH = 3.0
 #: from rest on the circle (where Problem.time_estimate is calibrated, within 10 % of T from the
 #: standard starts) the first horizon is this times the estimate, if above GROWTH times the lower
 #: bound: the runner-up's reach (1 + MARGIN) / (1 - HORIZON_BAND) with 10 % to spare, one scan
@@ -325,6 +339,23 @@ class _Sample:
 
     __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end")
 
+    def seen(self, horizon):
+        """The labels of the turning points before `horizon`."""
+        if self.duration <= horizon:
+            return self.events.keys()
+        return {label for label, (t, _) in self.events.items() if t <= horizon}
+
+    def omega(self, family, t):
+        """(omega, domega/dphi) at elapsed time t: recorded, or integrated on to t, or (t passed
+        without a record, the scan's acceptance lowered below an earlier one) integrated again from 0."""
+        if t not in self.ends:
+            if self.duration < t:
+                self.integrate(family, t)
+            else:
+                _, _, _, _, (y, dy, _), _ = family.run(self.phi, self.u0, t, taylor.SCAN)
+                self.ends[t] = (float(y[1]), float(dy[1]))
+        return self.ends[t]
+
     def __init__(self, family, phi, u0, duration):
         self.phi, self.u0, self.events, self.slopes, self.ends = phi, u0, {}, {}, {}
         self.duration, self.end = 0.0, None
@@ -379,7 +410,7 @@ class _Family:
         else:
             y0, dy0, u_start = start
         while True:
-            n_sw, n_ev, y, dy, u, steps, *marked = taylor.extremal_variations(
+            n_sw, n_ev, y, dy, u, steps, marked = taylor.extremal_variations(
                 y0, dy0, self.kappa, u_start, duration, 1.0, tol, order, self._switches, self._events, mark)
             if n_sw <= len(self._switches) and n_ev <= len(self._events):
                 break
@@ -387,7 +418,7 @@ class _Family:
             self._events = np.empty((2 * max(n_ev, len(self._events)), 8))
         self.count += start is None
         self.steps_per_time = steps / duration
-        return n_sw, self._switches[:n_sw], n_ev, self._events[:n_ev], (y, dy, u), (marked[0] if marked else None)
+        return n_sw, self._switches[:n_sw], n_ev, self._events[:n_ev], (y, dy, u), marked
 
     def sample(self, phi, u0, duration):
         """The _Sample of phi integrated at least for `duration`: the one of an earlier scan (the
@@ -421,7 +452,7 @@ def _targets(problem, lo, hi):
     """The branches k whose target angle lies in [lo, hi] (the pinned one only, on the plane)."""
     base = problem.base
     ks = range(math.ceil((lo - base) / (2 * math.pi)), math.floor((hi - base) / (2 * math.pi)) + 1)
-    return [k for k in ks if problem.branch is None or k == problem.branch]
+    return ks if problem.branch is None else [k for k in (problem.branch,) if k in ks]
 
 
 def _distance(problem, theta):
@@ -457,32 +488,25 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     values say. The turning point's time t_label is bounded alike: a half whose least time, less
     M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept`: where a, m, b see the
     same turning points, a half where it may have two zeros may hide one no sample sees, and is split."""
-    split, singular, brackets = False, math.inf, []
+    split, singular, brackets, soonest = False, math.inf, [], math.inf
     arrive = accept if arrive is None else arrive
     h = 0.5 * (b.phi - a.phi)
     # the turning points before the acceptance t_a change on [a, b] only where one crosses it, a zero
-    # of omega(t_a, phi): where a, m, b see the same ones, a half where omega(t_a, .) has no zero, or
-    # one (monotone), hides none (where a sample lacks t_a, from an earlier scan's horizon, the latest
-    # end the three share stands for it); where they differ, the labels below decide
-    alike = a.events.keys() == m.events.keys() == b.events.keys()
-    common = set(a.ends) & set(m.ends) & set(b.ends)
-    if not common:
-        common = {max(a.duration, m.duration, b.duration)}
-        for s in (a, m, b):
-            if s.duration < max(common):
-                s.integrate(family, max(common))
-    end = accept if accept in common else max(common)
-    (wa, dwa), (wm, dwm), (wb, dwb) = a.ends[end], m.ends[end], b.ends[end]
+    # of omega(t_a, phi): where a, m, b see the same ones before the horizon, a half where
+    # omega(t_a, .) has no zero, or one (monotone), hides none; where they differ, the labels below decide
+    horizon = extended / EXTEND
+    alike = a.seen(horizon) == m.seen(horizon) == b.seen(horizon)
+    (wa, dwa), (wm, dwm), (wb, dwb) = (s.omega(family, accept) for s in (a, m, b))
     for w0, w1, s0, s1, curvature in zip((wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb),
                                          _curvatures(wa, wm, wb, dwa, dwm, dwb, h)):
         bound = CURVATURE * curvature
         if not (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
                 or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)) and b.phi - a.phi > 2 * MIN_WIDTH and alike:
-            split = True
+            split, soonest = True, accept
     # labels in time order along an extremal, (arc, index in arc): once a label's turning point is
     # after the acceptance on a whole half, every later one is too (at each phi, later in time)
     late = [False, False]
-    for label in sorted(set(a.events) | set(m.events) | set(b.events)):
+    for label in sorted(set(a.seen(horizon)) | set(m.seen(horizon)) | set(b.seen(horizon))):
         if late[0] and late[1]:
             break
         values = [s.events.get(label) for s in (a, m, b)]
@@ -494,14 +518,15 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
             if None in values:
                 if min(v[0] for v in values if v is not None) > arrive + DIP * (extended / EXTEND - arrive):
                     continue
-                split = True
+                split, soonest = True, min(soonest, *(v[0] for v in values if v is not None))
                 singular = min(singular, *(_distance(problem, v[1]) for v in values if v is not None))
                 continue
         (ta, tha), (tm, thm), (tb, thb) = values
         (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
         early = (min(ta, tm) <= arrive and not late[0], min(tm, tb) <= arrive and not late[1])
-        reach_t = [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
+        reach_t = None                      # how far the time may dip below its ends' on each half
         if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
+            reach_t = [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
             early = (not (late[0] or min(ta, tm) - reach_t[0] > arrive),
                      not (late[1] or min(tm, tb) - reach_t[1] > arrive))
             late = [not e for e in early]
@@ -512,9 +537,9 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         reach = CURVATURE * max(bounds) * h * h / 8
         if resolved and not _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach):
             continue                        # no target within reach on either half
-        for x0, x1, t0, t1, f0, f1, s0, s1, bound, early_half, spread in (
-                (a.phi, m.phi, ta, tm, tha, thm, dtha, dthm, CURVATURE * bounds[0], early[0], reach_t[0]),
-                (m.phi, b.phi, tm, tb, thm, thb, dthm, dthb, CURVATURE * bounds[1], early[1], reach_t[1])):
+        for half, x0, x1, t0, t1, f0, f1, s0, s1, bound, early_half in (
+                (0, a.phi, m.phi, ta, tm, tha, thm, dtha, dthm, CURVATURE * bounds[0], early[0]),
+                (1, m.phi, b.phi, tm, tb, thm, thb, dthm, dthb, CURVATURE * bounds[1], early[1])):
             if not (resolved and early_half):
                 continue
             reach = bound * h * h / 8
@@ -527,9 +552,11 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
             for k in ks:
                 target = problem.target(k)[0]
                 if (f0 - target) * (f1 - target) < 0 or f1 == target:
+                    reach_t = reach_t or [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
+                    spread = reach_t[half]
                     found.append((x0, x1, label, k, max(t0, t1), (min(t0, t1) - spread, max(t0, t1) + spread)))
         if not resolved:
-            split = True
+            split, soonest = True, min(soonest, ta, tm, tb)
             # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
             # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
             jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
@@ -538,7 +565,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         brackets += found
     if split and b.phi - a.phi > 2 * MIN_WIDTH:
         brackets = []           # found again in the halves
-    return split, singular, brackets
+    return split, singular, brackets, soonest
 
 
 def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=None):
@@ -679,20 +706,30 @@ def _distinct(arrivals):
     return kept
 
 
-def _acceptance(bounds, margin):
-    """The acceptance that bracketed arrivals with time bounds [(earliest, latest)] allow: with B the
+class _Acceptance:
+    """The acceptance that bracketed arrivals with time bounds (earliest, latest) allow: with B the
     least latest bound (the best time T* <= B), (1 + margin) B, which every arrival within margin of
     the best precedes, and for margin <= MARGIN (the runner-up only) also the least latest bound of
     an arrival whose earliest is after B (1 + TIE_WINDOW): no tie of the best, so the runner-up
-    precedes it."""
-    best = min(latest for _, latest in bounds)
-    later = [latest for earliest, latest in bounds if earliest > best * (1 + TIE_WINDOW)]
-    return min([(1 + margin) * best] + (later if margin <= MARGIN else []))
+    precedes it. Kept as brackets are added: B only falls, so a bracket once after B (1 + TIE_WINDOW)
+    stays so, and only those that may tie the best are held to be looked at again."""
+
+    def __init__(self, margin):
+        self.margin, self.best, self.later, self.ties = margin, math.inf, math.inf, []
+
+    def add(self, earliest, latest):
+        """The acceptance once the bracket with these time bounds is added."""
+        self.best = min(self.best, latest)
+        self.ties.append((earliest, latest))
+        tie = self.best * (1 + TIE_WINDOW)
+        self.later = min([self.later] + [late for early, late in self.ties if early > tie])
+        self.ties = [(early, late) for early, late in self.ties if early <= tie]
+        return min((1 + self.margin) * self.best, self.later if self.margin <= MARGIN else math.inf)
 
 
 def scan(problem, horizon, original=None, clock=None, halves=2, family=None, margin=MARGIN, floor=0.0):
     """(arrivals, Coverage) of every extremal reaching the target before the acceptance: horizon *
-    (1 - HORIZON_BAND), lowered as arrivals are bracketed (`_acceptance`), never below `floor`; the
+    (1 - HORIZON_BAND), lowered as arrivals are bracketed (`_Acceptance`), never below `floor`; the
     Coverage's horizon is the acceptance reached (`original`: `problem` is `_Backward(original)`, the arrivals
     are read forwards; `halves` = 1: the first admissible half-circle only; `clock`: a _Clock whose
     time limit may end the scan; `family`: the _Family of `problem` of an earlier scan, whose samples
@@ -703,33 +740,40 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
     accept = arrive = horizon * (1 - HORIZON_BAND)
     intervals = admissible_intervals(problem.x0, problem.kappa)[:halves]
     brackets, unresolved, singular, finest = [], [], [], math.inf
+    acceptance, queue, order = _Acceptance(margin), [], itertools.count()
     for lo, hi, u0 in intervals:
         for end in (family.sample(lo, u0, horizon), family.sample(hi, u0, horizon)):
             closest = min((_distance(problem, th) for t, th in end.events.values() if t <= accept), default=math.inf)
             if closest < END_NEAR:
                 unresolved.append((end.phi, end.phi, closest))
         grid = [family.sample(phi, u0, horizon) for phi in np.linspace(lo + END_OFFSET, hi - END_OFFSET, SAMPLES + 1)]
-        stack = list(zip(grid[:-1], grid[1:]))
-        while stack and not clock.tick(horizon, u0, stack[-1][0].phi, family.count, len(brackets)):
-            a, b = stack.pop()
-            m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
-            split, closest, found = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
-            brackets += [(u0, f) for f in found]
-            if found:
-                arrive = min(arrive, max(floor, _acceptance([f[5] for _, f in brackets], margin)))
-            finest = min(finest, 0.5 * (b.phi - a.phi))
-            if split and b.phi - a.phi > 2 * MIN_WIDTH:
-                stack += [(a, m), (m, b)]
-            elif split and closest >= FAR:
-                singular.append((a.phi, b.phi, closest))
-            elif split:
-                unresolved.append((a.phi, b.phi, closest))
+        queue += [(0.0, next(order), u0, a, b) for a, b in zip(grid[:-1], grid[1:])]
+    while queue and not clock.tick(horizon, queue[0][2], queue[0][3].phi, family.count, len(brackets)):
+        _, _, u0, a, b = heapq.heappop(queue)
+        m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
+        split, closest, found, soonest = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
+        brackets += [(u0, f) for f in found]
+        for f in found:
+            arrive = min(arrive, max(floor, acceptance.add(*f[5])))
+        if arrive < RESCAN * accept:        # on, to the horizon of the acceptance reached
+            accept, horizon = arrive, arrive / (1 - HORIZON_BAND)
+        finest = min(finest, 0.5 * (b.phi - a.phi))
+        if split and b.phi - a.phi > 2 * MIN_WIDTH:
+            heapq.heappush(queue, (soonest, next(order), u0, a, m))
+            heapq.heappush(queue, (soonest, next(order), u0, m, b))
+        elif split and closest >= FAR:
+            singular.append((a.phi, b.phi, closest))
+        elif split:
+            unresolved.append((a.phi, b.phi, closest))
     # every arrival solved to CHECK accuracy (its error: the change from SCAN), ranked; the best, those
     # within TIE_WINDOW of it and the runner-up then to PRECISE (their error: the change from CHECK)
     solved = []
     for u0, (lo, hi, label, branch, t_guess, (earliest, _)) in brackets:
         if earliest > arrive:
             continue                        # bracketed before the acceptance was lowered below it
+        if clock.tick(horizon, u0, lo, family.count, len(brackets)):
+            unresolved.append((lo, hi, -1.0))   # the time limit passed: not solved, reported
+            continue
         rough = _root(family, problem, u0, label, branch, lo, hi, t_guess, taylor.SCAN)
         check = rough and _polish(family, problem, u0, label, branch, rough[0], lo, hi, t_guess, taylor.CHECK)
         if check is None:
@@ -832,13 +876,14 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
         return Search((found,), coverage, (f"the start is within {near.NEAR_SCALE:g} rad of branch {k}: "
                                            "the transfer in closed form",))
     clock = _Clock(time_limit, progress)
+    limit = max(MAX_HORIZON, REACH * problem.time_estimate)
     floor = 0.0 if horizon is None else horizon * (1 - HORIZON_BAND)     # a horizon given is scanned to
     scanned, original = (_Backward.of(problem), problem) if _backwards(problem) else (problem, None)
     halves = 1 if _center(problem) is not None else 2
     if horizon is None:
         rest = problem.x0[1] == 0.0 and problem.branch is None and problem.kappa >= HEADROOM_KAPPA
         guess = HEADROOM * problem.time_estimate if rest else 0.0
-        horizon = min(max(GROWTH * scanned.lower_bound, guess), MAX_HORIZON)
+        horizon = min(max(GROWTH * scanned.lower_bound, guess), limit)
     notes, done, family = [], None, _Family(scanned.x0, scanned.kappa)
     while True:
         arrivals, coverage = scan(scanned, horizon, original, clock, halves, family, margin, floor)
@@ -857,7 +902,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
             done = (tuple(arrivals), coverage)
             horizon = wanted
             continue
-        if horizon >= MAX_HORIZON:
-            return Search((), coverage, tuple(notes + [f"no extremal reaches the target before {horizon:.4g}"]))
-        notes.append(f"no arrival before {horizon:.4g}")
-        horizon = min(GROWTH * horizon, MAX_HORIZON)
+        if horizon >= limit:
+            return Search((), coverage, tuple(notes + [f"no extremal reaches the target before {coverage.horizon:.4g}"]))
+        notes.append(f"no arrival before {coverage.horizon:.4g}")
+        horizon = min(GROWTH * horizon, limit)

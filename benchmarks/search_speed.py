@@ -43,7 +43,7 @@ from ocp.indirect import search
 CASES = [("swing-up", 1.0), ("swing-up", 0.75), ("swing-up", 0.5), ("swing-up", 0.3), ("damping", 1.0)]
 KAPPAS = (0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0)
 FAST = [("swing-up", 1.0, (0.0, 5.0)), ("swing-up", 1.0, (0.0, 10.0)), ("damping", 1.0, (0.0, 10.0)),
-        ("swing-up", 1.0, (0.0, 20.0))]
+        ("swing-up", 1.0, (0.0, 20.0)), ("swing-up", 1.0, (0.0, 50.0)), ("damping", 1.0, (0.0, 50.0))]
 N_LADDER = (50, 100, 200, 400, 800)
 #: the goal of |T - T*| for the textbook method's N
 TEXTBOOK_TOL = 1e-4

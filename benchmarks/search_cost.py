@@ -3,7 +3,8 @@
     python benchmarks/search_cost.py [--before REV] [--time-limit S] [--repeats R] [--only WORD]
 
 For each case of CASES (both problems from their standard starts for kappa 0.05 to 10, moving starts
-near the upright, fast starts, a start far out, both readings): `ocp.indirect.search` alone, warm
+near the upright, fast starts down to kappa = 0.05, a start far out, both readings, a target 1000 rad
+away on the plane): `ocp.indirect.search` alone, warm
 (the compiled kernels loaded by a first search), its CPU seconds (the least of `repeats` runs: the
 machine is shared, CPU time is what the search costs), the extremals it integrated, its status,
 T and the switch count. With --before REV the same cases are run, in a subprocess, by the code of
@@ -28,7 +29,9 @@ CASES = ([("swing-up", k, (0.0, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 
          + [("damping", k, (math.pi, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0)]
          + [("damping", 0.1, (2.5, -0.3), None), ("damping", 0.3, (2.5, -0.3), None), ("swing-up", 0.3, (2.5, -0.3), None),
             ("swing-up", 1.0, (0.0, 10.0), None), ("swing-up", 1.0, (0.0, 20.0), None), ("swing-up", 1.0, (0.0, 50.0), None),
-            ("damping", 1.0, (0.0, 50.0), None), ("swing-up", 0.5, (1000.0, 0.0), None), ("swing-up", 1.0, (0.0, 0.0), 1),
+            ("damping", 1.0, (0.0, 50.0), None), ("swing-up", 0.1, (0.0, 50.0), None), ("swing-up", 0.05, (0.0, 50.0), None),
+            ("damping", 0.05, (2.5, -0.3), None), ("swing-up", 0.5, (1000.0, 0.0), None), ("swing-up", 1.0, (0.0, 0.0), 1),
+            ("swing-up", 0.05, (0.0, 0.0), 158),
             ("damping", 8.0, (1.0, 2.0), 0), ("swing-up", 0.2, (0.0, 0.0), -1)])
 
 

@@ -55,8 +55,10 @@ times the best's: `_Acceptance`), so that a fast start, whose turning points cro
 targets within 20 % of the best time, solves two of them, not all. When the acceptance falls below
 RESCAN times the scan's own, the scan goes on as if to the horizon of the acceptance reached:
 extremals sampled after are integrated to that horizon, the labels compared and omega checked as
-for a scan to it (omega at the new acceptance integrated again from t = 0 for the extremals sampled
-before, which passed it without a record). Each bracketed arrival is
+for a scan to it (omega checked at the new acceptance, or at a later time the three samples recorded:
+the turning points before that time are constant where it has no zero; an extremal sampled before,
+which passed the new acceptance without a record, is integrated to it again from t = 0 only where
+the three share no such time). Each bracketed arrival is
 solved by safeguarded Newton in phi on theta_label - theta* (its slope from the variational
 equations; bisection where a step would leave the bracket), with the SCAN integration from the root
 of the cubic Hermite interpolant at the bracket's ends, then from that root with CHECK, and again
@@ -496,7 +498,11 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # omega(t_a, .) has no zero, or one (monotone), hides none; where they differ, the labels below decide
     horizon = extended / EXTEND
     alike = a.seen(horizon) == m.seen(horizon) == b.seen(horizon)
-    (wa, dwa), (wm, dwm), (wb, dwb) = (s.omega(family, accept) for s in (a, m, b))
+    # omega at t_a, or at a later time the three recorded (a conservative check: the turning points before
+    # it are constant where it has no zero), else recorded at t_a (integrated on, or again from t = 0)
+    later = [t for t in set(a.ends) & set(m.ends) & set(b.ends) if t >= accept]
+    end = min(later, default=accept)
+    (wa, dwa), (wm, dwm), (wb, dwb) = (s.omega(family, end) for s in (a, m, b))
     for w0, w1, s0, s1, curvature in zip((wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb),
                                          _curvatures(wa, wm, wb, dwa, dwm, dwb, h)):
         bound = CURVATURE * curvature

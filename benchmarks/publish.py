@@ -21,10 +21,11 @@ Parts (all by default, in this order):
                    sqpmethod (fair) -> benchmarks/results/failure-maps/, their table in
                    benchmarks/README.md
     speed          python benchmarks/search_speed.py; python benchmarks/search_speed.py --kappa-table
-                   --chart docs/figures; python benchmarks/synthesis_speed.py
+                   --chart docs/figures; python benchmarks/search_cost.py --time-limit 30 --repeats 1;
+                   python benchmarks/synthesis_speed.py
                    -> the search against the textbook method, on the standard cases and against
-                      kappa (docs/figures/search_cost.png), the maps against per-state solves
-                      (README.md)
+                      kappa (docs/figures/search_cost.png), the search across the accepted range
+                      (where it is still slow), the maps against per-state solves (README.md)
     bifurcation    ocp bifurcation --store benchmarks/results/bifurcation.jsonl --jobs 2   (fresh)
                    -> ocp/synthesis/data/bifurcation.jsonl (read by ocp verify) and the table of
                       the values kappa_n in README.md
@@ -247,6 +248,7 @@ def speed(commit):
     record = {"commit": commit, "command": "", "seconds": 0.0, "environment": environment()}
     for args, block in ((["search_speed.py"], "search-speed"),
                         (["search_speed.py", "--kappa-table", "--chart", "docs/figures"], "search-cost"),
+                        (["search_cost.py", "--time-limit", "30", "--repeats", "1"], "search-range"),
                         (["synthesis_speed.py"], "synthesis-speed")):
         shown = f"python benchmarks/{' '.join(args)}"
         seconds, out = run([sys.executable, f"benchmarks/{args[0]}", *args[1:]], shown)

@@ -101,14 +101,15 @@ def main():
             side.wait()
     print(f"commit {commit}{f' against {args.before}' if args.before else ''}: the search alone, warm, CPU s "
           f"(least of {args.repeats}), time limit {args.time_limit:g} s\n")
-    print("| problem | start | reading | kappa | T | switches | extremals | CPU s | before: extremals | CPU s | status | ratio |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    before = " before: extremals | CPU s | status | ratio |" if args.before else ""
+    print(f"| problem | start | reading | kappa | T | switches | extremals | CPU s |{before}")
+    print("| --- " * (8 + 4 * bool(args.before)) + "|")
     for (kind, kappa, x0, branch), (r, *b) in zip(cases, rows):
         T = "-" if r["T"] is None else f"{r['T']:.12g}"
-        then = "| - | - | - | -" if not b else (f"| {b[0]['extremals']} | {b[0]['cpu_s']:.4f} | {b[0]['status']} | "
-                                               f"{b[0]['cpu_s'] / r['cpu_s']:.1f}")
+        then = "" if not b else (f" {b[0]['extremals']} | {b[0]['cpu_s']:.4f} | {b[0]['status']} | "
+                                 f"{b[0]['cpu_s'] / r['cpu_s']:.1f} |")
         print(f"| {kind} | ({x0[0]:.4g}, {x0[1]:.4g}) | {'circle' if branch is None else f'plane {branch}'} | {kappa:g} | "
-              f"{T} ({r['status']}) | {r['switches']} | {r['extremals']} | {r['cpu_s']:.4f} {then} |")
+              f"{T} ({r['status']}) | {r['switches']} | {r['extremals']} | {r['cpu_s']:.4f} |{then}")
 
 
 if __name__ == "__main__":

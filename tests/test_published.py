@@ -22,7 +22,8 @@ BLOCKS = {
                  ("benchmarks/README.md", "standard-environment")],
     "figures": [("README.md", "figures")],
     "failure-maps": [("benchmarks/README.md", "failure-maps")],
-    "speed": [("README.md", "search-speed"), ("README.md", "search-cost"), ("README.md", "synthesis-speed")],
+    "speed": [("README.md", "search-speed"), ("README.md", "search-cost"), ("README.md", "search-range"),
+              ("README.md", "synthesis-speed")],
     "bifurcation": [("README.md", "bifurcation")],
     "timings": [("README.md", "timings"), ("README.md", "verify-totals")],
 }

@@ -473,7 +473,7 @@ def _curvatures(fa, fm, fb, sa, sm, sb, h):
 
 
 def _examine(problem, family, a, m, b, accept, extended, arrive=None):
-    """(split, singular, brackets) for the interval [a.phi, b.phi] with midpoint m: whether it must
+    """(split, singular, brackets, soonest) for the interval [a.phi, b.phi] with midpoint m: whether it must
     be bisected, and if only because a turning point goes to infinite time inside it (the extremal
     reaches an equilibrium of its arc, a saddle), the nearest approach of that turning point to a
     target; and the brackets (phi_lo, phi_hi, label, branch, time, (earliest, latest)) it resolves
@@ -488,8 +488,10 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     |s0 + s1| > M h (f' >= (s0 + s1 - M h) / 2 there). A half is resolved when the first excludes
     every target, or the second holds: then a target is crossed once or not at all, as the end
     values say. The turning point's time t_label is bounded alike: a half whose least time, less
-    M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept`: where a, m, b see the
-    same turning points, a half where it may have two zeros may hide one no sample sees, and is split."""
+    M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept` (or at a later time the
+    three recorded): where a, m, b see the same turning points before the horizon (extended /
+    EXTEND), a half where it may have two zeros may hide one no sample sees, and is split. `soonest`:
+    the earliest time of what forced a split (the scan examines the halves in that order)."""
     split, singular, brackets, soonest = False, math.inf, [], math.inf
     arrive = accept if arrive is None else arrive
     h = 0.5 * (b.phi - a.phi)

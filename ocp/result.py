@@ -360,6 +360,11 @@ class Solution:
                    direct_time_s=self.direct_time_s, total_time_s=self.total_time_s)
         return out
 
+    def _resim_error(self):
+        """', to within E (the re-simulation's own accuracy)' where that is above the rounding."""
+        error = self.certificate.final_state_error if self.certificate else 0.0
+        return f", re-simulated to within {order(error)}" if error > 1e-12 else ""
+
     def summary(self):
         """A few lines a person can read: the failure first if it failed."""
         p = self.problem
@@ -367,7 +372,7 @@ class Solution:
         if not self.success:
             line = f"NO SOLUTION: {self.message}"
             if self.status == SolveStatus.NOT_VERIFIED:
-                line += f" (by {order(self.resim_miss)}); no time is claimed for it"
+                line += f" (by {order(self.resim_miss)}{self._resim_error()}); no time is claimed for it"
             lines.append(line)
             lines += [f"  {n}" for n in self.notes]
             if self.direct is not None:
@@ -376,7 +381,7 @@ class Solution:
         lines.append(f"reached ({angle_text(self.target[0])}, 0), branch k = {self.branch}")
         if self.best.source is Source.SEARCH:
             lines.append(f"T = {digits(self.T, self.T_error)}   (error estimate {order(printed_error(self.T, self.T_error))}, rounding included; the control "
-                         f"re-simulated independently misses the target by {order(self.resim_miss)})")
+                         f"re-simulated independently misses the target by {order(self.resim_miss)}{self._resim_error()})")
         else:
             measured = ", error below h^2/2 as measured" if self.T_error else ""
             lines.append(f"T = {self._direct_T()}   (direct transcription{measured}; optimal: unknown)")

@@ -775,11 +775,12 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
             unresolved.append((a.phi, b.phi, closest))
     # every arrival solved to CHECK accuracy (its error: the change from SCAN), ranked; the best, those
     # within TIE_WINDOW of it and the runner-up then to PRECISE (their error: the change from CHECK)
+    # (earliest first; once the time limit has passed, only until one is solved: the best so far)
     solved = []
-    for u0, (lo, hi, label, branch, t_guess, (earliest, _)) in brackets:
+    for u0, (lo, hi, label, branch, t_guess, (earliest, _)) in sorted(brackets, key=lambda b: b[1][5][0]):
         if earliest > arrive:
             continue                        # bracketed before the acceptance was lowered below it
-        if clock.tick(horizon, u0, lo, family.count, len(brackets)):
+        if solved and clock.tick(horizon, u0, lo, family.count, len(brackets)):
             unresolved.append((lo, hi, -1.0))   # the time limit passed: not solved, reported
             continue
         rough = _root(family, problem, u0, label, branch, lo, hi, t_guess, taylor.SCAN)

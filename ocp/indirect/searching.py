@@ -140,12 +140,16 @@ MARGIN = 0.2
 GROWTH = 1.5
 MAX_HORIZON = 400.0
 REACH = 3.0
-#: from rest on the circle (where Problem.time_estimate is calibrated, within 10 % of T from the
-#: standard starts) the first horizon is this times the estimate, if above GROWTH times the lower
-#: bound: the runner-up's reach (1 + MARGIN) / (1 - HORIZON_BAND) with 10 % to spare, one scan
+#: on the circle (where Problem.time_estimate is calibrated: within 10 % of T from the standard
+#: starts, within 8 % from (0, 50) at kappa = 1, where braking dominates) the first horizon is this
+#: times the estimate, if above GROWTH times the lower bound: the runner-up's reach
+#: (1 + MARGIN) / (1 - HORIZON_BAND) with 10 % to spare, one scan (a horizon too long costs little
+#: once the acceptance falls: RESCAN)
 HEADROOM = 1.1 * (1 + MARGIN) / (1 - HORIZON_BAND)
-#: ... for kappa from this up: below, the last scans dominate the cost anyway, and a horizon too
-#: long multiplies it (swing-up at kappa = 0.05: 20 % too long, 5 times the extremals)
+#: ... from rest for kappa from this up (below, the scans grown by GROWTH cost less: swing-up at
+#: kappa = 0.05 from rest, 412 extremals against 745), from a moving start at every kappa (damping
+#: from (0, 50) at kappa = 1: 2095 against 3339); on the plane the estimate is not calibrated
+#: (1.2 d / kappa for a target d rad away) and the horizon grows from the lower bound
 HEADROOM_KAPPA = 0.5
 #: the unresolved and singular intervals kept in a Coverage (all are counted)
 LISTED = 50
@@ -861,8 +865,8 @@ def _mirrored(problem, a):
 
 def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None):
     """The complete Search of `problem`: scans with a horizon growing by GROWTH from the larger of
-    GROWTH * problem.lower_bound and (from rest, on the circle, kappa >= HEADROOM_KAPPA) HEADROOM *
-    problem.time_estimate (or
+    GROWTH * problem.lower_bound and (on the circle, from a moving start or for kappa >= HEADROOM_KAPPA)
+    HEADROOM * problem.time_estimate (or
     from `horizon`, e.g. a feasible time known, whose acceptance is then not lowered) until an arrival
     is found, then once more to the best time times (1 + margin) if the scan stopped short of it and
     (with margin <= MARGIN, whose purpose is the runner-up) found no runner-up: a wider margin (the
@@ -890,8 +894,8 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None)
     scanned, original = (_Backward.of(problem), problem) if _backwards(problem) else (problem, None)
     halves = 1 if _center(problem) is not None else 2
     if horizon is None:
-        rest = problem.x0[1] == 0.0 and problem.branch is None and problem.kappa >= HEADROOM_KAPPA
-        guess = HEADROOM * problem.time_estimate if rest else 0.0
+        estimated = problem.branch is None and (problem.kappa >= HEADROOM_KAPPA or problem.x0[1] != 0.0)
+        guess = HEADROOM * problem.time_estimate if estimated else 0.0
         horizon = min(max(GROWTH * scanned.lower_bound, guess), limit)
     notes, done, family = [], None, _Family(scanned.x0, scanned.kappa)
     while True:

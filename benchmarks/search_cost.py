@@ -55,7 +55,7 @@ def measure(cases, repeats, limit):
                 break
         a = found.best
         print(json.dumps({"cpu_s": best, "extremals": found.coverage.extremals, "status": found.status,
-                          "T": None if a is None else a.T, "switches": None if a is None else a.n_switches}), flush=True)
+                          "T": None if a is None else a.T, "T_error": None if a is None else a.T_error, "switches": None if a is None else a.n_switches}), flush=True)
 
 
 def worker(tree, args):
@@ -86,6 +86,7 @@ def main():
     cases = [c for c in CASES if not args.only or args.only in json.dumps(c)]
     if args.worker:
         return measure(cases, args.repeats, args.time_limit)
+    from ocp.core.numbers import digits
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
     with tempfile.TemporaryDirectory() as tree:
         sides = [worker(ROOT, args)]
@@ -100,12 +101,13 @@ def main():
             side.stdin.close()
             side.wait()
     print(f"commit {commit}{f' against {args.before}' if args.before else ''}: the search alone, warm, CPU s "
-          f"(least of {args.repeats}), time limit {args.time_limit:g} s\n")
+          f"(least of {args.repeats}), time limit {args.time_limit:g} s; T to the digits its error estimate "
+          f"defends\n")
     before = " before: extremals | CPU s | status | ratio |" if args.before else ""
     print(f"| problem | start | reading | kappa | T | switches | extremals | CPU s |{before}")
     print("| --- " * (8 + 4 * bool(args.before)) + "|")
     for (kind, kappa, x0, branch), (r, *b) in zip(cases, rows):
-        T = "-" if r["T"] is None else f"{r['T']:.12g}"
+        T = "-" if r["T"] is None else digits(r["T"], r["T_error"])
         then = "" if not b else (f" {b[0]['extremals']} | {b[0]['cpu_s']:.4f} | {b[0]['status']} | "
                                  f"{b[0]['cpu_s'] / r['cpu_s']:.1f} |")
         print(f"| {kind} | ({x0[0]:.4g}, {x0[1]:.4g}) | {'circle' if branch is None else f'plane {branch}'} | {kappa:g} | "

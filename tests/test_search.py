@@ -128,13 +128,16 @@ def test_an_extremal_extended_from_where_it_ended_has_the_turning_points_of_one_
     assert len(whole.events) >= 3, "too few turning points to test the labels' continuation"
 
 
-def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0), duration=10.0):
-    """A _Sample as the scan sees it: one turning point `label` at (t, theta) with slopes (dt/dphi,
-    dtheta/dphi) = (t[1], slope), and (omega, domega/dphi) = `omega` at the acceptance time."""
+def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0), duration=10.0, energies=None):
+    """A _Sample as the scan sees it: one turning point `label` (none if theta is None) at (t, theta)
+    with slopes (dt/dphi, dtheta/dphi) = (t[1], slope), (omega, domega/dphi) = `omega` at the
+    acceptance time of a scan to horizon 10, and the arcs' `energies` {arc: (E, dE/dphi)} (none known
+    by default)."""
     sample = S._Sample.__new__(S._Sample)
     sample.phi, sample.u0, sample.duration, sample.end = phi, 1, duration, None
-    sample.events, sample.slopes = {label: (t[0], theta)}, {label: (t[1], slope)}
-    sample.ends = {duration * (1 - S.HORIZON_BAND): omega}
+    sample.events, sample.slopes = ({}, {}) if theta is None else ({label: (t[0], theta)}, {label: (t[1], slope)})
+    sample.ends = {10.0 * (1 - S.HORIZON_BAND): omega}
+    sample.energies = energies or {}
     return sample
 
 
@@ -259,3 +262,46 @@ def test_the_plane_brackets_only_its_pinned_branch_however_many_turns_a_label_sw
     plane, circle = make("swing-up", 0.05, (0.0, 0.0), branch=158), make("swing-up", 0.05, (0.0, 0.0))
     assert list(S._targets(plane, -1e4, 1e4)) == [158] and list(S._targets(plane, 0.0, 900.0)) == []
     assert list(S._targets(circle, 0.0, 20.0)) == [0, 1, 2]
+
+
+def energy_samples(energies, slopes, theta=(2.0, 2.1, None)):
+    """a, m, b at phi = 0, 0.1, 0.2 with arc 1's energies and their slopes; turning point (1, 0) at
+    angles `theta` (None: not seen, its arc running into a saddle between m and b), at t = 2."""
+    return [fake_sample(phi, th, 1.0, duration=15.0, energies={1: (e, s)})
+            for phi, th, e, s in zip((0.0, 0.1, 0.2), theta, energies, slopes)]
+
+
+@pytest.mark.parametrize("energies, slopes, branch, excluded", [
+    ((2.60, 2.61, 2.62), (0.1, 0.1, 0.1), None, True),      # between the levels of branches 0 and 1
+    ((2.56, 2.57, 2.58), (0.1, 0.1, 0.1), None, False),     # through branch 0's level, 2.5708
+    ((2.56, 2.57, 2.58), (0.1, 0.1, 0.1), 1, True),         # ... which the plane pinned to branch 1 does not allow
+    ((2.60, 2.61, 2.62), (0.1, -5.0, 0.1), None, False),    # the same values, an excursion between them
+])
+def test_an_arcs_energy_excludes_the_targets_none_of_its_turning_points_can_be_at(energies, slopes, branch, excluded):
+    """On arc 1 from u0 = +1 (u = -1, kappa = 0.5) the turning points lie where
+    V(theta) = -cos(theta) + 0.5 theta equals the arc's energy; the targets pi + 2 pi k have the levels
+    1 + 0.5 (pi + 2 pi k): 2.5708 for k = 0, 5.7124 for k = 1. An energy bounded (values and slopes) away
+    from every allowed level excludes every turning point of the arc, seen or not."""
+    problem = make("swing-up", 0.5, (0.0, 0.0), branch)
+    a, m, b = energy_samples(energies, slopes)
+    assert S._energy_excludes(problem, a, m, b, 1, 0.1) == excluded
+    # a turning point seen at a and m only (running into a saddle between m and b) splits the interval
+    # unless its arc's energy excludes every target
+    assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == (not excluded)
+
+
+def test_the_energy_bound_isolates_extremals_that_reach_a_saddle_coarser_and_finds_the_same_arrivals(monkeypatch):
+    """Damping from (2.5, -0.3) at kappa = 0.3, a start moving near the upright: the extremals of
+    the family that run into a saddle were each isolated to MIN_WIDTH; the arcs' energies resolve
+    them earlier, with the same arrivals, every arrival of the brute force among them."""
+    problem = make("damping", 0.3, (2.5, -0.3))
+    result = S.search(problem)
+    monkeypatch.setattr(S, "_energy_excludes", lambda *args: False)
+    without = S.search(problem)
+    assert result.coverage.complete and without.coverage.complete
+    assert result.coverage.extremals < 0.5 * without.coverage.extremals
+    assert result.coverage.n_singular < without.coverage.n_singular
+    assert [a.T for a in result.arrivals] == pytest.approx([a.T for a in without.arrivals], rel=1e-12)
+    horizon = result.coverage.horizon
+    brute = [T for T in brute_force(problem, horizon) if T <= horizon * 0.999]
+    assert brute and not [T for T in brute if not any(abs(T - a.T) <= 1e-8 * T for a in result.arrivals)]

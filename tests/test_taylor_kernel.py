@@ -203,7 +203,7 @@ def test_the_kernel_refuses_arrays_of_the_wrong_shape():
     (dict(y=[0.0, 0.0, 1.0, 0.0]), TypeError, "y: a C-contiguous writable"),
     (dict(dy=np.zeros(4).reshape(2, 2)), ValueError, "dy: .* shape \\(4,\\)"),
     (dict(switches=np.empty((6, 4)).T), TypeError, "switches: a C-contiguous"),
-    (dict(switches=np.empty((4, 5))), ValueError, "switches: .* shape \\(n, 6\\)"),
+    (dict(switches=np.empty((4, 5))), ValueError, "switches: .* shape \\(n, 8\\)"),
     (dict(events=np.empty((4, 8), dtype=np.int64)), ValueError, "events: a float64"),
     (dict(events=np.empty((4, 8)).copy(order="F")), TypeError, "events: a C-contiguous"),
     (dict(marked=np.empty(4)), ValueError, "marked: a float64 array of shape \\(8,\\)"),
@@ -215,7 +215,7 @@ def test_the_variations_kernel_names_a_wrong_array(bad, error, words):
     exception naming it, the kernel never reached."""
     read_only = np.zeros(4)
     read_only.setflags(write=False)
-    arrays = dict(y=np.zeros(4), dy=np.zeros(4), switches=np.empty((4, 6)), events=np.empty((4, 8)),
+    arrays = dict(y=np.zeros(4), dy=np.zeros(4), switches=np.empty((4, 8)), events=np.empty((4, 8)),
                   marked=np.empty(8))
     arrays.update({k: read_only if isinstance(v, str) else v for k, v in bad.items()})
     with pytest.raises(error, match=words):
@@ -249,7 +249,7 @@ def test_the_variations_are_the_derivatives_of_the_extremal_in_phi(direction, ph
         return n_sw, n_ev, y, u, steps, sw[:n_sw], ev[:n_ev]
 
     y0, dy0 = _fresh(direction, phi)
-    sw, ev = np.empty((40, 6)), np.empty((40, 8))
+    sw, ev = np.empty((40, 8)), np.empty((40, 8))
     n_sw, n_ev, y, dy, u, steps, marked = taylor.extremal_variations(y0, dy0, kappa, u0, duration, direction, tol, K, sw, ev)
     sw, ev = sw[:n_sw], ev[:n_ev]
     base = plain(phi)
@@ -281,7 +281,7 @@ def test_the_mark_is_the_dense_output_of_the_same_steps(case):
     mark = 0.8 * duration
 
     def run(duration, mark=None):
-        sw, ev = np.full((40, 6), np.nan), np.full((40, 8), np.nan)
+        sw, ev = np.full((40, 8), np.nan), np.full((40, 8), np.nan)
         out = taylor.extremal_variations(np.array(y0), dy0, kappa, u_start, duration, direction, tol, K, sw, ev, mark)
         return out, sw, ev
 

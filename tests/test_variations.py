@@ -28,7 +28,7 @@ def plain(x0, kappa, phi, duration, direction):
 
 
 def varied(x0, kappa, phi, duration, direction):
-    switches, events = np.empty((64, 6)), np.empty((256, 8))
+    switches, events = np.empty((64, 8)), np.empty((256, 8))
     n_sw, n_ev, y, dy, u, steps, _ = taylor.extremal_variations(*start(x0, phi), kappa, 1.0, duration, direction,
                                                              *taylor.PRECISE, switches, events)
     return switches[:n_sw].copy(), events[:n_ev].copy(), y, dy, u, steps
@@ -62,5 +62,11 @@ def test_the_derivatives_are_central_differences_of_extremal(x0, kappa, phi, dur
     assert sw[:, 5] == pytest.approx(derivative(0, 0), rel=TOL, abs=TOL)
     assert ev[:, 7] == pytest.approx(derivative(1, 0), rel=TOL, abs=TOL)
     assert ev[:, 6] == pytest.approx(derivative(1, 1), rel=TOL, abs=TOL)
+    # the state at each switch, d/dphi x(s(phi)) = dx(s+) + direction f(x, u_new) ds/dphi: the state's
+    # variation just after the switch (columns 6, 7) and the switch's elapsed time (column 5)
+    u_new = np.sign(math.sin(phi)) * (-1.0) ** np.arange(1, len(sw) + 1)
+    theta, omega, ds = sw[:, 1], sw[:, 2], direction * sw[:, 5]
+    assert sw[:, 6] + omega * ds == pytest.approx(derivative(0, 1), rel=TOL, abs=TOL)
+    assert sw[:, 7] + (kappa * u_new - np.sin(theta)) * ds == pytest.approx(derivative(0, 2), rel=TOL, abs=TOL)
     # the final state and the normalised costate at the fixed final time
     assert dy == pytest.approx(derivative(2, None), rel=TOL, abs=TOL)

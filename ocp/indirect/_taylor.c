@@ -283,8 +283,11 @@ static Outcome integrate(Series *w, double *y, double *dy, double kappa, double 
                 T(switches, o.n_sw, 0) = t;
                 for (int i = 0; i < 4; i++)
                     T(switches, o.n_sw, 1 + i) = y[i];
-                if (d)
+                if (d) {    /* and the state's variation just after the switch (at the fixed time t+) */
                     T(switches, o.n_sw, 5) = direction * dt_s;
+                    T(switches, o.n_sw, 6) = dy[0];
+                    T(switches, o.n_sw, 7) = dy[1];
+                }
             }
             o.n_sw++;
             u = -u;
@@ -318,7 +321,7 @@ static Table table(double *v, Held *h)
 }
 
 static const Py_ssize_t FOUR[] = {4}, TWO[] = {2}, ANY[] = {-1}, SWITCHES[] = {-1, 5}, EVENTS[] = {-1, 6},
-                        SAMPLES[] = {-1, 3}, SWITCHES_VAR[] = {-1, 6}, EVENTS_VAR[] = {-1, 8},
+                        SAMPLES[] = {-1, 3}, SWITCHES_VAR[] = {-1, 8}, EVENTS_VAR[] = {-1, 8},
                         EIGHT[] = {8};
 
 /* The common end of extremal and extremal_variations: integrate (with the GIL released) in a series

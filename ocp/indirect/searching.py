@@ -40,9 +40,19 @@ so where a, m, b see the same turning points, a half on which the bound excludes
 omega(t_a, .) monotone (one crossing, seen by the samples), hides none (where they see different
 ones, a turning point crossing the horizon, the rules for those below decide: near an extremal that
 reaches a saddle, omega(t_a, .) is too steep for the bound, and that check alone would bisect to
-MIN_WIDTH, 4 times the extremals). The residual assumption of completeness is that bound: on every
-half the scan resolved, |theta_label''|, |t_label''| and |omega(t_a, .)''| stay below CURVATURE
-times their Hermite estimates. A feature narrower than the half that shows in none of the values
+MIN_WIDTH, 4 times the extremals). The turning points of one arc are also bounded together, by
+its energy (`_energy_excludes`): on arc j (u = u_j) E_j = omega^2 / 2 - cos(theta) - kappa u_j theta
+is constant, so its turning points lie where V_j(theta) = -cos(theta) - kappa u_j theta = E_j, and
+E_j is a smooth function of phi (of the state at the switch that begins arc j and its variation
+there), also where a turning point of arc j runs into a saddle of the arc's field: its angle jumps
+there and its time diverges, but E_j passes the saddle's level smoothly. A label missing at some of
+a, m, b, or one whose angle the bound above does not resolve, is resolved on [a, b] where the same
+bound on E_j excludes V_j(theta*_k) for every allowed target. Near a saddle theta_s the target's
+level is about |cos(theta_s)| (theta_s - theta*)^2 / 2 from the saddle's (kappa^2 / 2 for the
+upright at small kappa), so an extremal reaching it is isolated to a width of about that over
+|dE_j / dphi|, not to MIN_WIDTH. The residual assumption of completeness is that bound: on every
+half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''| and |E_j''| stay below
+CURVATURE times their Hermite estimates. A feature narrower than the half that shows in none of the values
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
 not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
 states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
@@ -246,7 +256,7 @@ class Coverage:
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
                 f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g} "
                 f"(assumed: between two samples, the second derivatives in phi of a turning point's angle and time, "
-                f"and of omega at t = {self.horizon:.4g}, stay below {CURVATURE:g} x their cubic Hermite estimates "
+                f"of omega at t = {self.horizon:.4g} and of an arc's energy stay below {CURVATURE:g} x their cubic Hermite estimates "
                 f"from the samples' values and slopes)")
         if self.stopped:
             text = "stopped by the time limit: " + text.replace("complete scan", "partial scan", 1).replace(
@@ -343,7 +353,7 @@ class _Sample:
     integration and at its acceptance time, t -> (omega, domega/dphi) in `ends`, and where the
     integration ended (to extend it from there)."""
 
-    __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end")
+    __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end", "energies")
 
     def seen(self, horizon):
         """The labels of the turning points before `horizon`."""
@@ -365,6 +375,8 @@ class _Sample:
     def __init__(self, family, phi, u0, duration):
         self.phi, self.u0, self.events, self.slopes, self.ends = phi, u0, {}, {}, {}
         self.duration, self.end = 0.0, None
+        theta0, omega0 = family.x0
+        self.energies = {0: (0.5 * omega0 * omega0 - math.cos(theta0) - family.kappa * u0 * theta0, 0.0)}
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
@@ -373,9 +385,13 @@ class _Sample:
         that horizon (the step containing it evaluated there)."""
         accept = duration * (1 - HORIZON_BAND)
         mark = accept - self.duration if self.duration < accept else None
-        n_sw, _, _, events, end, marked = family.run(self.phi, self.u0, duration - self.duration, taylor.SCAN,
-                                                     None if self.end is None else self.end[:3], mark)
+        n_sw, switches, _, events, end, marked = family.run(self.phi, self.u0, duration - self.duration,
+                                                            taylor.SCAN, None if self.end is None else self.end[:3], mark)
         arcs, index = (0, 0) if self.end is None else self.end[3:]
+        for j, (_, theta, omega, _, _, _, dtheta, domega) in enumerate(switches.tolist(), arcs + 1):
+            torque = family.kappa * self.u0 * (-1) ** j
+            self.energies[j] = (0.5 * omega * omega - math.cos(theta) - torque * theta,
+                                omega * domega + (math.sin(theta) - torque) * dtheta)
         last = 0
         for t, theta, arc, i, _, _, dtheta, dt in events.tolist():
             label = arcs + int(arc), int(i) + (index if arc == 0 else 0)
@@ -397,7 +413,7 @@ class _Family:
         self.x0 = (float(x0[0]), float(x0[1]))
         self.kappa = float(kappa)
         self.count = 0
-        self._switches = np.empty((64, 6))
+        self._switches = np.empty((64, 8))
         self._events = np.empty((256, 8))
         self._y0, self._dy0 = np.array([*self.x0, 0.0, 0.0]), np.zeros(4)
         self._samples = {}
@@ -420,7 +436,7 @@ class _Family:
                 y0, dy0, self.kappa, u_start, duration, 1.0, tol, order, self._switches, self._events, mark)
             if n_sw <= len(self._switches) and n_ev <= len(self._events):
                 break
-            self._switches = np.empty((2 * max(n_sw, len(self._switches)), 6))
+            self._switches = np.empty((2 * max(n_sw, len(self._switches)), 8))
             self._events = np.empty((2 * max(n_ev, len(self._events)), 8))
         self.count += start is None
         self.steps_per_time = steps / duration
@@ -465,6 +481,26 @@ def _distance(problem, theta):
     """Distance from theta to the nearest allowed target angle."""
     k = problem.nearest_branch(theta) if problem.branch is None else problem.branch
     return abs(theta - problem.target(k)[0])
+
+
+def _energy_excludes(problem, a, m, b, arc, h):
+    """Whether no turning point of arc `arc` lies on an allowed target anywhere in [a.phi, b.phi]: on
+    arc j (u = u_j) the energy E_j = omega^2 / 2 - cos(theta) - kappa u_j theta is constant, so its
+    turning points are where V_j(theta) = -cos(theta) - kappa u_j theta = E_j; E_j is a smooth
+    function of phi (through a passage by a saddle too, where the turning points are not), bounded
+    on each half as theta_label is (`_curvatures`), and a target theta*_k is excluded where
+    V_j(theta*_k) = -cos(base) - kappa u_j theta*_k is outside those bounds."""
+    values = [s.energies.get(arc) for s in (a, m, b)]
+    if None in values:
+        return False
+    (ea, dea), (em, dem), (eb, deb) = values
+    reach = CURVATURE * max(_curvatures(ea, em, eb, dea, dem, deb, h)) * h * h / 8
+    if not math.isfinite(reach):
+        return False
+    torque = problem.kappa * a.u0 * (-1) ** arc
+    level = -math.cos(problem.base)
+    ends = ((level - min(ea, em, eb) + reach) / torque, (level - max(ea, em, eb) - reach) / torque)
+    return not _targets(problem, min(ends), max(ends))
 
 
 def _curvatures(fa, fm, fb, sa, sm, sb, h):
@@ -530,6 +566,8 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
             if None in values:
                 if min(v[0] for v in values if v is not None) > arrive + DIP * (extended / EXTEND - arrive):
                     continue
+                if _energy_excludes(problem, a, m, b, label[0], h):
+                    continue
                 split, soonest = True, min(soonest, *(v[0] for v in values if v is not None))
                 singular = min(singular, *(_distance(problem, v[1]) for v in values if v is not None))
                 continue
@@ -567,6 +605,8 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                     reach_t = reach_t or [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
                     spread = reach_t[half]
                     found.append((x0, x1, label, k, max(t0, t1), (min(t0, t1) - spread, max(t0, t1) + spread)))
+        if not resolved and _energy_excludes(problem, a, m, b, label[0], h):
+            continue
         if not resolved:
             split, soonest = True, min(soonest, ta, tm, tb)
             # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal

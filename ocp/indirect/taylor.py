@@ -65,7 +65,8 @@ def extremal_variations(y0, dy0, kappa, u_start, duration, direction, tol, K, sw
     y0 = (theta0, omega0, cos phi, sin phi), dy0 = (0, 0, -sin phi, cos phi)); y, the switch and
     event times are bit-identical to `extremal`'s.
 
-    Writes switches[i] = (t, theta, omega, p1, p2, ds_s/dphi) and events[i] = (t, theta, arc,
+    Writes switches[i] = (t, theta, omega, p1, p2, ds_s/dphi, dtheta/dphi, domega/dphi), the
+    last two the state's variation at the fixed time just after the switch, and events[i] = (t, theta, arc,
     index in arc, p1, p2, dtheta_e/dphi, ds_e/dphi), ds/dphi = direction * dt/dphi the derivative
     of the elapsed time. Returns (switch count, event count, final y with |p| = 1, final dy, final
     u, steps, marked): marked is None, or with an elapsed time `mark` in (0, duration] (y, dy) there:

@@ -20,6 +20,9 @@ from .core.numbers import digits, order, plus_minus, printed_error
 from .core.problem import Problem, angle_text
 from .direct.structure import pattern
 
+#: a re-simulation error estimate below this is rounding (a re-simulated miss is ~1e-13 at best) and not printed
+RESIM_ROUNDING = 1e-12
+
 if TYPE_CHECKING:                     # the types of the fields, for readers and checkers only
     from .direct import DirectSolution
     from .exact.finch import Crosscheck
@@ -363,7 +366,7 @@ class Solution:
     def _resim_error(self):
         """', to within E (the re-simulation's own accuracy)' where that is above the rounding."""
         error = self.certificate.final_state_error if self.certificate else 0.0
-        return f", re-simulated to within {order(error)}" if error > 1e-12 else ""
+        return f", re-simulated to within {order(error)}" if error > RESIM_ROUNDING else ""
 
     def summary(self):
         """A few lines a person can read: the failure first if it failed."""

@@ -94,20 +94,23 @@ def _arc(y0, u, duration, kappa, tol=TOL):
     return np.column_stack([y0, samples])
 
 
+def _arcs(y0, signs, durations, kappa, tol=TOL):
+    """State and costate along each arc (`_arc`) from y0 = (x0, p(0)), each from the end of the one before."""
+    arcs = []
+    for s, d in zip(signs, durations):
+        arcs.append(_arc(y0 if not arcs else arcs[-1][:, -1], s, d, kappa, tol))
+    return arcs
+
+
 def certify(extremal, x0, kappa):
     """The Certificate of `extremal` (an `ocp.indirect.searching.Extremal`) from x0 for bound kappa."""
     signs, durations = extremal.signs, extremal.durations
-    y = np.concatenate([np.asarray(x0, float), extremal.p0])
-    arcs, at_switch = [], []
-    for i, (s, d) in enumerate(zip(signs, durations)):
-        values = _arc(y, s, d, kappa)
-        arcs.append((s, values))
-        y = values[:, -1]
-        if i < len(signs) - 1:
-            at_switch.append(y)
-    p2_scale = max(np.max(np.abs(a[3])) for _, a in arcs)
+    y0 = np.concatenate([np.asarray(x0, float), extremal.p0])
+    arcs = _arcs(y0, signs, durations, kappa)
+    at_switch, y = [a[:, -1] for a in arcs[:-1]], arcs[-1][:, -1]
+    p2_scale = max(np.max(np.abs(a[3])) for a in arcs)
     sign_violation, extra_zeros, h_dev = 0.0, 0, 0.0
-    for s, a in arcs:
+    for s, a in zip(signs, arcs):
         inner = s * a[3, 1:-1]
         sign_violation = max(sign_violation, float(np.max(-inner, initial=0.0)) / p2_scale)
         extra_zeros += int(np.sum(np.diff(np.sign(inner)) != 0))
@@ -121,9 +124,7 @@ def certify(extremal, x0, kappa):
                    and h_dev < FIRST_ORDER_TOL)
     eigenvalues, error = reduced_hessian(x0, signs, durations, kappa, -y[2:])
     second = all(e > error for e in eigenvalues)
-    rough = np.concatenate([np.asarray(x0, float), extremal.p0])
-    for s, d in zip(signs, durations):
-        rough = _arc(rough, s, d, kappa, ROUGH)[:, -1]
+    rough = _arcs(y0, signs, durations, kappa, ROUGH)[-1][:, -1]
     return Certificate(sign_violation, float(switch_residual), extra_zeros, slopes, strict, h_dev,
                        eigenvalues, error, first_order, second, (float(y[0]), float(y[1])),
                        float(np.hypot(y[0] - rough[0], y[1] - rough[1])))

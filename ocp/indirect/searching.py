@@ -83,10 +83,12 @@ extremals reversed), because forwards from near the saddle every passage by it s
 and the scan resolves an exponentially growing fan of singular extremals (5e6 extremals for the
 damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under theta -> 2c - theta
 (at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
-moving start near the upright is still scanned forwards, and may be slow: each extremal that
-reaches a saddle is isolated by bisection to MIN_WIDTH (2 log2(pi / (SAMPLES MIN_WIDTH)) extremals
-each), and their number grows with the horizon (hundreds for the damping from (2.5, -0.3) at
-kappa = 0.1). A fast start costs in the length of its extremals, not in their number, where kappa is
+moving start near the upright is still scanned forwards, and may be slow: after a passage near the
+saddle, the later arcs' energies and turning points change by 1e3 to 1e5 per radian of phi, sweeping
+many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 11,911
+extremals, 7 isolated to MIN_WIDTH; 33,040 before the energy bound, which isolates the extremals
+reaching a saddle coarser); so does a target many turns away on the plane (swing-up to branch 20 at kappa = 0.5:
+2e4 extremals). A fast start costs in the length of its extremals, not in their number, where kappa is
 small: swing-up from (0, 50), 1e3 extremals at kappa = 1 (T = 49), 5e3 of length 500 to 800 at
 kappa = 0.1 (T = 489). `time_limit` ends a scan with the best arrival so far
 (status "stopped", not proven optimal).
@@ -494,7 +496,7 @@ def _energy_excludes(problem, a, m, b, arc, h):
     if None in values:
         return False
     (ea, dea), (em, dem), (eb, deb) = values
-    reach = CURVATURE * max(_curvatures(ea, em, eb, dea, dem, deb, h)) * h * h / 8
+    reach = max(_reaches(ea, em, eb, dea, dem, deb, h))
     if not math.isfinite(reach):
         return False
     torque = problem.kappa * a.u0 * (-1) ** arc
@@ -510,6 +512,12 @@ def _curvatures(fa, fm, fb, sa, sm, sb, h):
     left, right = 6 * (fm - fa) / h, 6 * (fb - fm) / h
     at_m = max(abs(-left + 2 * sa + 4 * sm), abs(right - 4 * sm - 2 * sb))
     return max(abs(left - 4 * sa - 2 * sm), at_m) / h, max(at_m, abs(-right + 2 * sm + 4 * sb)) / h
+
+
+def _reaches(fa, fm, fb, sa, sm, sb, h):
+    """For each half, how far the function may leave the chord of its end values there:
+    M h^2 / 8 with M = CURVATURE * `_curvatures`."""
+    return tuple(CURVATURE * c * h * h / 8 for c in _curvatures(fa, fm, fb, sa, sm, sb, h))
 
 
 def _examine(problem, family, a, m, b, accept, extended, arrive=None):
@@ -542,7 +550,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     alike = a.seen(horizon) == m.seen(horizon) == b.seen(horizon)
     # omega at t_a, or at a later time the three recorded (a conservative check: the turning points before
     # it are constant where it has no zero), else recorded at t_a (integrated on, or again from t = 0)
-    later = [t for t in set(a.ends) & set(m.ends) & set(b.ends) if t >= accept]
+    later = [t for t in a.ends.keys() & m.ends.keys() & b.ends.keys() if t >= accept]
     end = min(later, default=accept)
     (wa, dwa), (wm, dwm), (wb, dwb) = (s.omega(family, end) for s in (a, m, b))
     for w0, w1, s0, s1, curvature in zip((wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb),
@@ -554,7 +562,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # labels in time order along an extremal, (arc, index in arc): once a label's turning point is
     # after the acceptance on a whole half, every later one is too (at each phi, later in time)
     late = [False, False]
-    for label in sorted(set(a.seen(horizon)) | set(m.seen(horizon)) | set(b.seen(horizon))):
+    for label in sorted(a.seen(horizon) | m.seen(horizon) | b.seen(horizon)):
         if late[0] and late[1]:
             break
         values = [s.events.get(label) for s in (a, m, b)]
@@ -576,7 +584,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         early = (min(ta, tm) <= arrive and not late[0], min(tm, tb) <= arrive and not late[1])
         reach_t = None                      # how far the time may dip below its ends' on each half
         if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
-            reach_t = [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
+            reach_t = _reaches(ta, tm, tb, dta, dtm, dtb, h)
             early = (not (late[0] or min(ta, tm) - reach_t[0] > arrive),
                      not (late[1] or min(tm, tb) - reach_t[1] > arrive))
             late = [not e for e in early]
@@ -602,7 +610,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
             for k in ks:
                 target = problem.target(k)[0]
                 if (f0 - target) * (f1 - target) < 0 or f1 == target:
-                    reach_t = reach_t or [CURVATURE * c * h * h / 8 for c in _curvatures(ta, tm, tb, dta, dtm, dtb, h)]
+                    reach_t = reach_t or _reaches(ta, tm, tb, dta, dtm, dtb, h)
                     spread = reach_t[half]
                     found.append((x0, x1, label, k, max(t0, t1), (min(t0, t1) - spread, max(t0, t1) + spread)))
         if not resolved and _energy_excludes(problem, a, m, b, label[0], h):

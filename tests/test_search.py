@@ -137,7 +137,7 @@ def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0),
     sample.phi, sample.u0, sample.duration, sample.end = phi, 1, duration, None
     sample.events, sample.slopes = ({}, {}) if theta is None else ({label: (t[0], theta)}, {label: (t[1], slope)})
     sample.ends = {10.0 * (1 - S.HORIZON_BAND): omega}
-    sample.energies = energies or {}
+    sample.energies, sample.switch_times = energies or {}, []
     return sample
 
 
@@ -166,6 +166,18 @@ def test_a_turning_point_seen_by_no_sample_is_looked_for_where_omega_at_the_acce
     for omegas, slopes, split in (((0.5, 0.4, 0.5), (-1.0, 0.0, 1.0), False), ((0.5, 0.4, 0.5), (-10.0, 0.0, 10.0), True)):
         a, m, b = (fake_sample(phi, 2.0 + phi, 1.0, (w, s)) for phi, w, s in zip((0.0, 0.1, 0.2), omegas, slopes))
         assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
+
+
+@pytest.mark.parametrize("energy, split", [(0.0, False), (1 - math.pi, True)])
+def test_a_turning_point_seen_by_no_sample_is_no_arrival_where_the_energy_of_its_arc_excludes_the_target(energy, split):
+    """The turning point that omega at the acceptance may hide (0.5, 0.4, 0.5 with slopes -10, 0, 10)
+    belongs to the arc running then (it cannot cross a switch), here arc 0 at u = +1, kappa = 1: its
+    turning points lie where V(theta) = -cos(theta) - theta equals the arc's energy, and the target pi
+    has the level 1 - pi. An energy of 0 excludes it: the interval is resolved; one of 1 - pi does not."""
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
+    a, m, b = (fake_sample(phi, 2.0 + phi, 1.0, (w, s), energies={0: (energy, 0.0)})
+               for phi, w, s in zip((0.0, 0.1, 0.2), (0.5, 0.4, 0.5), (-10.0, 0.0, 10.0)))
+    assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
 
 
 def test_a_start_at_rest_on_an_equilibrium_of_one_control_scans_the_other_half_only():
@@ -305,3 +317,23 @@ def test_the_energy_bound_isolates_extremals_that_reach_a_saddle_coarser_and_fin
     horizon = result.coverage.horizon
     brute = [T for T in brute_force(problem, horizon) if T <= horizon * 0.999]
     assert brute and not [T for T in brute if not any(abs(T - a.T) <= 1e-8 * T for a in result.arrivals)]
+
+
+def test_a_turning_point_seen_at_one_sample_late_but_falling_steeply_toward_the_others_is_looked_for(monkeypatch):
+    """benchmarks/search_residual.py, seed 51164 (at cb45a8a): damping at kappa = 0.87219 from
+    (-2.0554, 0) to branch 1, scanned backwards at the horizons 6.331 and then 9.497 (1.5 times the
+    double integrator's bound, then 1.5 times that), missed the best arrival, 7.0962897671 by the brute
+    force. On [5.8905, 6.0868] the turning point (1, 0) was seen at 5.8905 only, at t = 8.87, after the
+    acceptance 7.60 by more than half the band; but its time falls there at dt/dphi = -164, and between
+    the samples it dips to 7.10 before it runs into a saddle. Its slope now splits that interval."""
+    problem = make("damping", 0.8721900443087389, (-2.055447494979794, 0.0), 1)
+    backward = S._Backward.of(problem)
+
+    def scans():
+        family = S._Family(backward.x0, backward.kappa)
+        return [S.scan(backward, horizon, problem, None, 2, family)[0] for horizon in (6.331311974837983, 9.496967962256975)]
+
+    first, second = scans()
+    assert not first and second[0].T == pytest.approx(7.096289767125355, rel=1e-11)
+    monkeypatch.setattr(S, "_dips", lambda *args: False)
+    assert scans()[1][0].T > 7.4

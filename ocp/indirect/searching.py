@@ -47,7 +47,9 @@ E_j is a smooth function of phi (of the state at the switch that begins arc j an
 there), also where a turning point of arc j runs into a saddle of the arc's field: its angle jumps
 there and its time diverges, but E_j passes the saddle's level smoothly. A label missing at some of
 a, m, b, or one whose angle the bound above does not resolve, is resolved on [a, b] where the same
-bound on E_j excludes V_j(theta*_k) for every allowed target. Near a saddle theta_s the target's
+bound on E_j excludes V_j(theta*_k) for every allowed target; so is an interval where omega(t_a, .)
+may have two zeros, if the same arc j runs at t_a at a, m and b (a turning point crossing t_a unseen
+is of that arc: it cannot cross a switch). Near a saddle theta_s the target's
 level is about |cos(theta_s)| (theta_s - theta*)^2 / 2 from the saddle's (kappa^2 / 2 for the
 upright at small kappa), so an extremal reaching it is isolated to a width of about that over
 |dE_j / dphi|, not to MIN_WIDTH. The residual assumption of completeness is that bound: on every
@@ -56,7 +58,8 @@ CURVATURE times their Hermite estimates. A feature narrower than the half that s
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
 not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
 states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
-before the acceptance horizon also forces a split. Intervals are not split
+before the acceptance horizon also forces a split, unless its time there is late (DIP) and stays
+after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Intervals are not split
 below MIN_WIDTH; such an interval that is still unresolved is reported, as is a bracket whose root
 is not found (a sign change that is a jump, not a crossing). The labels are examined in time order
 along the extremal: once one is after the acceptance on a whole half, so is every later one. The
@@ -94,6 +97,7 @@ kappa = 0.1 (T = 489). `time_limit` ends a scan with the best arrival so far
 (status "stopped", not proven optimal).
 """
 
+import bisect
 import heapq
 import itertools
 import math
@@ -134,8 +138,9 @@ SAFETY = 3.0
 TIE_WINDOW = 1e-6
 #: a turning point missing at a sample is looked for up to this many horizons
 EXTEND = 1.5
-#: a turning point seen at one sample only is resolved when its time there is within this fraction
-#: of the horizon band past the acceptance (it may dip before the acceptance between samples)
+#: a turning point seen at some samples only is resolved when its time there is past the acceptance
+#: by this fraction of the horizon band (it may dip before the acceptance between samples) and,
+#: extrapolated along its slope to those that do not see it, still after the acceptance (`_dips`)
 DIP = 0.5
 #: a turning point that goes to infinite time this far from every target cannot hide an arrival
 FAR = 1e-2
@@ -355,13 +360,17 @@ class _Sample:
     integration and at its acceptance time, t -> (omega, domega/dphi) in `ends`, and where the
     integration ended (to extend it from there)."""
 
-    __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end", "energies")
+    __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end", "energies", "switch_times")
 
     def seen(self, horizon):
         """The labels of the turning points before `horizon`."""
         if self.duration <= horizon:
             return self.events.keys()
         return {label for label, (t, _) in self.events.items() if t <= horizon}
+
+    def arc(self, t):
+        """The arc running at elapsed time t (the switches before it)."""
+        return bisect.bisect_left(self.switch_times, t)
 
     def omega(self, family, t):
         """(omega, domega/dphi) at elapsed time t: recorded, or integrated on to t, or (t passed
@@ -379,6 +388,7 @@ class _Sample:
         self.duration, self.end = 0.0, None
         theta0, omega0 = family.x0
         self.energies = {0: (0.5 * omega0 * omega0 - math.cos(theta0) - family.kappa * u0 * theta0, 0.0)}
+        self.switch_times = []
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
@@ -390,7 +400,8 @@ class _Sample:
         n_sw, switches, _, events, end, marked = family.run(self.phi, self.u0, duration - self.duration,
                                                             taylor.SCAN, None if self.end is None else self.end[:3], mark)
         arcs, index = (0, 0) if self.end is None else self.end[3:]
-        for j, (_, theta, omega, _, _, _, dtheta, domega) in enumerate(switches.tolist(), arcs + 1):
+        for j, (t, theta, omega, _, _, _, dtheta, domega) in enumerate(switches.tolist(), arcs + 1):
+            self.switch_times.append(t + self.duration)
             torque = family.kappa * self.u0 * (-1) ** j
             self.energies[j] = (0.5 * omega * omega - math.cos(theta) - torque * theta,
                                 omega * domega + (math.sin(theta) - torque) * dtheta)
@@ -505,6 +516,16 @@ def _energy_excludes(problem, a, m, b, arc, h):
     return not _targets(problem, min(ends), max(ends))
 
 
+def _dips(label, samples, values, arrive):
+    """Whether the time of the turning point `label`, seen at some of the samples only (values None
+    where not), extrapolated along its slope from a sample that sees it to one that does not, falls
+    to `arrive` or before: it may dip before the acceptance between them (its time, late where seen,
+    falling steeply toward where it is not, as it may where it runs into a saddle beyond)."""
+    seen = [(s.phi, v[0], s.slopes[label][0]) for s, v in zip(samples, values) if v is not None]
+    unseen = [s.phi for s, v in zip(samples, values) if v is None]
+    return any(t + slope * (phi - x) <= arrive for x, t, slope in seen for phi in unseen)
+
+
 def _curvatures(fa, fm, fb, sa, sm, sb, h):
     """For each half of [a, b] (a, m = a + h, b = a + 2h), the largest |second derivative| of the
     cubic Hermite interpolants of a function's values f and slopes s at a, m, b at the ends of that
@@ -553,11 +574,17 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     later = [t for t in a.ends.keys() & m.ends.keys() & b.ends.keys() if t >= accept]
     end = min(later, default=accept)
     (wa, dwa), (wm, dwm), (wb, dwb) = (s.omega(family, end) for s in (a, m, b))
+    hidden = False
     for w0, w1, s0, s1, curvature in zip((wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb),
                                          _curvatures(wa, wm, wb, dwa, dwm, dwb, h)):
         bound = CURVATURE * curvature
-        if not (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
-                or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)) and b.phi - a.phi > 2 * MIN_WIDTH and alike:
+        hidden = hidden or not (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
+                                or (s0 * s1 > 0 and abs(s0 + s1) > bound * h))
+    if hidden and b.phi - a.phi > 2 * MIN_WIDTH and alike:
+        # a turning point crossing that time unseen is of the arc running then (it cannot cross a switch):
+        # none is an arrival where the same arc runs at a, m, b and its energy excludes every target
+        arc = a.arc(end)
+        if not (m.arc(end) == arc == b.arc(end) and _energy_excludes(problem, a, m, b, arc, h)):
             split, soonest = True, accept
     # labels in time order along an extremal, (arc, index in arc): once a label's turning point is
     # after the acceptance on a whole half, every later one is too (at each phi, later in time)
@@ -572,7 +599,8 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                     s.integrate(family, extended)
             values = [s.events.get(label) for s in (a, m, b)]
             if None in values:
-                if min(v[0] for v in values if v is not None) > arrive + DIP * (extended / EXTEND - arrive):
+                if min(v[0] for v in values if v is not None) > arrive + DIP * (extended / EXTEND - arrive) \
+                        and not _dips(label, (a, m, b), values, arrive):
                     continue
                 if _energy_excludes(problem, a, m, b, label[0], h):
                     continue

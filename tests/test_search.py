@@ -128,16 +128,18 @@ def test_an_extremal_extended_from_where_it_ended_has_the_turning_points_of_one_
     assert len(whole.events) >= 3, "too few turning points to test the labels' continuation"
 
 
-def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0), duration=10.0, energies=None):
+def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0), duration=10.0, energies=None,
+                switches=()):
     """A _Sample as the scan sees it: one turning point `label` (none if theta is None) at (t, theta)
     with slopes (dt/dphi, dtheta/dphi) = (t[1], slope), (omega, domega/dphi) = `omega` at the
-    acceptance time of a scan to horizon 10, and the arcs' `energies` {arc: (E, dE/dphi)} (none known
-    by default)."""
+    acceptance time of a scan to horizon 10, the arcs' `energies` {arc: (E, dE/dphi)} (none known
+    by default) and the `switches` (t, dt/dphi)."""
     sample = S._Sample.__new__(S._Sample)
     sample.phi, sample.u0, sample.duration, sample.end = phi, 1, duration, None
     sample.events, sample.slopes = ({}, {}) if theta is None else ({label: (t[0], theta)}, {label: (t[1], slope)})
     sample.ends = {10.0 * (1 - S.HORIZON_BAND): omega}
-    sample.energies, sample.switch_times = energies or {}, []
+    sample.energies = energies or {}
+    sample.switch_times, sample.switch_slopes = [t for t, _ in switches], [d for _, d in switches]
     return sample
 
 
@@ -168,16 +170,43 @@ def test_a_turning_point_seen_by_no_sample_is_looked_for_where_omega_at_the_acce
         assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
 
 
-@pytest.mark.parametrize("energy, split", [(0.0, False), (1 - math.pi, True)])
-def test_a_turning_point_seen_by_no_sample_is_no_arrival_where_the_energy_of_its_arc_excludes_the_target(energy, split):
-    """The turning point that omega at the acceptance may hide (0.5, 0.4, 0.5 with slopes -10, 0, 10)
-    belongs to the arc running then (it cannot cross a switch), here arc 0 at u = +1, kappa = 1: its
-    turning points lie where V(theta) = -cos(theta) - theta equals the arc's energy, and the target pi
-    has the level 1 - pi. An energy of 0 excludes it: the interval is resolved; one of 1 - pi does not."""
+@pytest.mark.parametrize("energy, switches, split", [
+    (0.0, [[(12.0, 0.0)]] * 3, False),                                 # arc 0 runs through t = 8: resolved
+    (1 - math.pi, [[(12.0, 0.0)]] * 3, True),                          # its energy at the target's level
+    (0.0, [[(12.0, 0.0)], [(12.0, 0.0)], [(8.5, 0.0)]], True),        # its end may dip below t = 8 between m, b
+    (0.0, [[]] * 3, True),                                             # its end not recorded: unknown
+])
+def test_a_turning_point_seen_by_no_sample_is_no_arrival_where_the_energy_of_its_arc_excludes_the_target(
+        energy, switches, split):
+    """The turning point that omega at the acceptance t = 8 may hide (0.5, 0.4, 0.5 with slopes -10, 0,
+    10) belongs to the arc running then (it cannot cross a switch), here arc 0 at u = +1, kappa = 1, if
+    that arc runs through the interval at t = 8 (its end, the first switch, bounded after 8 by its
+    values and slopes). Its turning points lie where V(theta) = -cos(theta) - theta equals the arc's
+    energy, and the target pi has the level 1 - pi: an energy of 0 excludes it, one of 1 - pi does not."""
     problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
-    a, m, b = (fake_sample(phi, 2.0 + phi, 1.0, (w, s), energies={0: (energy, 0.0)})
-               for phi, w, s in zip((0.0, 0.1, 0.2), (0.5, 0.4, 0.5), (-10.0, 0.0, 10.0)))
+    a, m, b = (fake_sample(phi, 2.0 + phi, 1.0, (w, s), energies={0: (energy, 0.0)}, switches=sw)
+               for phi, w, s, sw in zip((0.0, 0.1, 0.2), (0.5, 0.4, 0.5), (-10.0, 0.0, 10.0), switches))
     assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
+
+
+@pytest.mark.parametrize("x0, kappa, phi, u0", [((2.5, -0.3), 0.3, 2.0, 1), ((0.0, 0.0), 0.5, 4.0, -1),
+                                                 ((1.0, 3.0), 0.2, 0.7, 1)])
+def test_an_arcs_energy_is_the_potential_at_its_turning_points_and_its_slope_the_difference_quotient(x0, kappa, phi, u0):
+    """_Sample.energies from the switches against their definition: on arc j every turning point has
+    V_j(theta) = E_j; the slopes against central differences of E_j in phi; the same energies from an
+    integration extended from where it ended as from one integrated at once."""
+    family = S._Family(x0, kappa)
+    sample, short = S._Sample(family, phi, u0, 30.0), S._Sample(family, phi, u0, 9.0)
+    short.integrate(family, 30.0)
+    assert len(sample.energies) >= 3, "too few arcs to test"
+    for (arc, _), (_, theta) in sample.events.items():
+        torque = kappa * u0 * (-1) ** arc
+        assert -math.cos(theta) - torque * theta == pytest.approx(sample.energies[arc][0], abs=1e-8)
+    h = 1e-6
+    plus, minus = S._Sample(family, phi + h, u0, 30.0), S._Sample(family, phi - h, u0, 30.0)
+    for arc, (energy, slope) in sample.energies.items():
+        assert slope == pytest.approx((plus.energies[arc][0] - minus.energies[arc][0]) / (2 * h), rel=1e-5, abs=1e-6)
+        assert short.energies[arc] == pytest.approx((energy, slope), rel=1e-6, abs=1e-8)
 
 
 def test_a_start_at_rest_on_an_equilibrium_of_one_control_scans_the_other_half_only():

@@ -48,13 +48,15 @@ there), also where a turning point of arc j runs into a saddle of the arc's fiel
 there and its time diverges, but E_j passes the saddle's level smoothly. A label missing at some of
 a, m, b, or one whose angle the bound above does not resolve, is resolved on [a, b] where the same
 bound on E_j excludes V_j(theta*_k) for every allowed target; so is an interval where omega(t_a, .)
-may have two zeros, if the same arc j runs at t_a at a, m and b (a turning point crossing t_a unseen
-is of that arc: it cannot cross a switch). Near a saddle theta_s the target's
+may have two zeros, if one arc j runs at t_a through [a, b] (the switches that begin and end it
+bounded before and after t_a: `_runs_through`; a turning point crossing t_a unseen is of that arc,
+it cannot cross a switch). Near a saddle theta_s the target's
 level is about |cos(theta_s)| (theta_s - theta*)^2 / 2 from the saddle's (kappa^2 / 2 for the
 upright at small kappa), so an extremal reaching it is isolated to a width of about that over
 |dE_j / dphi|, not to MIN_WIDTH. The residual assumption of completeness is that bound: on every
-half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''| and |E_j''| stay below
-CURVATURE times their Hermite estimates. A feature narrower than the half that shows in none of the values
+half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''|, |E_j''| and the switch
+times' stay below CURVATURE times their Hermite estimates, and the time of a label seen by some
+samples only stays above its tangents toward the others (`_dips`). A feature narrower than the half that shows in none of the values
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
 not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
 states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
@@ -121,9 +123,10 @@ END_OFFSET = 1e-9
 END_NEAR = 1e-6
 #: finest phi spacing of the bisection
 MIN_WIDTH = 1e-10
-#: the bound of a turning point's |d^2 theta / dphi^2| (and |d^2 t / dphi^2|) on an interval: this
-#: many times the largest of the cubic Hermite interpolants' of its values and slopes (the residual
-#: assumption of the scan's completeness: the module's docstring)
+#: the bound of a turning point's |d^2 theta / dphi^2| (and of |d^2 / dphi^2| of its time, of omega at
+#: the acceptance, of an arc's energy, of a switch's time) on an interval: this many times the largest
+#: of the cubic Hermite interpolants' of its values and slopes (the residual assumption of the scan's
+#: completeness: the module's docstring)
 CURVATURE = 2.0
 #: safeguarded Newton iterations of a root (one extremal each) before it is given up
 NEWTON_ITERATIONS = 40
@@ -263,8 +266,9 @@ class Coverage:
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
                 f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g} "
                 f"(assumed: between two samples, the second derivatives in phi of a turning point's angle and time, "
-                f"of omega at t = {self.horizon:.4g} and of an arc's energy stay below {CURVATURE:g} x their cubic Hermite estimates "
-                f"from the samples' values and slopes)")
+                f"of omega at t = {self.horizon:.4g}, of an arc's energy and of a switch's time stay below {CURVATURE:g} x "
+                f"their cubic Hermite estimates from the samples' values and slopes, and the time of a turning point "
+                f"seen by some samples only stays above its tangents toward the others)")
         if self.stopped:
             text = "stopped by the time limit: " + text.replace("complete scan", "partial scan", 1).replace(
                 "every arrival", "arrivals searched")
@@ -357,10 +361,13 @@ class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
     index in arc) -> (t, theta) in `events` and their derivatives in phi -> (dt/dphi,
     dtheta/dphi) in `slopes`, its angular velocity and that's derivative in phi at the end of each
-    integration and at its acceptance time, t -> (omega, domega/dphi) in `ends`, and where the
-    integration ended (to extend it from there)."""
+    integration and at its acceptance time, t -> (omega, domega/dphi) in `ends`, each arc's energy
+    and its derivative in phi, arc -> (E, dE/dphi) in `energies` (`_energy`), the switches' times and
+    their derivatives in phi in `switch_times`, `switch_slopes`, and where the integration ended (to
+    extend it from there)."""
 
-    __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end", "energies", "switch_times")
+    __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end", "energies", "switch_times",
+                 "switch_slopes")
 
     def seen(self, horizon):
         """The labels of the turning points before `horizon`."""
@@ -387,8 +394,8 @@ class _Sample:
         self.phi, self.u0, self.events, self.slopes, self.ends = phi, u0, {}, {}, {}
         self.duration, self.end = 0.0, None
         theta0, omega0 = family.x0
-        self.energies = {0: (0.5 * omega0 * omega0 - math.cos(theta0) - family.kappa * u0 * theta0, 0.0)}
-        self.switch_times = []
+        self.energies = {0: (_energy(theta0, omega0, _torque(family.kappa, u0, 0)), 0.0)}
+        self.switch_times, self.switch_slopes = [], []
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
@@ -400,11 +407,11 @@ class _Sample:
         n_sw, switches, _, events, end, marked = family.run(self.phi, self.u0, duration - self.duration,
                                                             taylor.SCAN, None if self.end is None else self.end[:3], mark)
         arcs, index = (0, 0) if self.end is None else self.end[3:]
-        for j, (t, theta, omega, _, _, _, dtheta, domega) in enumerate(switches.tolist(), arcs + 1):
+        for j, (t, theta, omega, _, _, dt, dtheta, domega) in enumerate(switches.tolist(), arcs + 1):
             self.switch_times.append(t + self.duration)
-            torque = family.kappa * self.u0 * (-1) ** j
-            self.energies[j] = (0.5 * omega * omega - math.cos(theta) - torque * theta,
-                                omega * domega + (math.sin(theta) - torque) * dtheta)
+            self.switch_slopes.append(dt)
+            torque = _torque(family.kappa, self.u0, j)
+            self.energies[j] = (_energy(theta, omega, torque), omega * domega + (math.sin(theta) - torque) * dtheta)
         last = 0
         for t, theta, arc, i, _, _, dtheta, dt in events.tolist():
             label = arcs + int(arc), int(i) + (index if arc == 0 else 0)
@@ -496,6 +503,35 @@ def _distance(problem, theta):
     return abs(theta - problem.target(k)[0])
 
 
+def _torque(kappa, u0, arc):
+    """kappa u_j on arc j of an extremal whose first control is u0: u_j = u0 (-1)^j."""
+    return kappa * u0 * (-1) ** arc
+
+
+def _energy(theta, omega, torque):
+    """omega^2 / 2 - cos(theta) - torque theta: constant on an arc of that torque (kappa u)."""
+    return 0.5 * omega * omega - math.cos(theta) - torque * theta
+
+
+def _runs_through(a, m, b, arc, t, h):
+    """Whether arc `arc` runs at elapsed time t on all of [a.phi, b.phi]: the switches that begin and
+    end it recorded at a, m and b, and bounded (values and slopes, `_reaches`) before t and after t
+    on both halves (a switch crossing t between the samples would bring another arc in)."""
+    for switch, begins in ((arc - 1, True), (arc, False)):
+        if switch < 0:
+            continue                        # arc 0 begins at t = 0
+        if not all(len(s.switch_times) > switch for s in (a, m, b)):
+            return False
+        (ta, tm, tb), (da, dm, db) = ([s.switch_times[switch] for s in (a, m, b)],
+                                      [s.switch_slopes[switch] for s in (a, m, b)])
+        ra, rb = _reaches(ta, tm, tb, da, dm, db, h)
+        if begins and not (max(ta, tm) + ra < t and max(tm, tb) + rb < t):
+            return False
+        if not begins and not (min(ta, tm) - ra > t and min(tm, tb) - rb > t):
+            return False
+    return True
+
+
 def _energy_excludes(problem, a, m, b, arc, h):
     """Whether no turning point of arc `arc` lies on an allowed target anywhere in [a.phi, b.phi]: on
     arc j (u = u_j) the energy E_j = omega^2 / 2 - cos(theta) - kappa u_j theta is constant, so its
@@ -510,7 +546,7 @@ def _energy_excludes(problem, a, m, b, arc, h):
     reach = max(_reaches(ea, em, eb, dea, dem, deb, h))
     if not math.isfinite(reach):
         return False
-    torque = problem.kappa * a.u0 * (-1) ** arc
+    torque = _torque(problem.kappa, a.u0, arc)
     level = -math.cos(problem.base)
     ends = ((level - min(ea, em, eb) + reach) / torque, (level - max(ea, em, eb) - reach) / torque)
     return not _targets(problem, min(ends), max(ends))
@@ -559,8 +595,12 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     values say. The turning point's time t_label is bounded alike: a half whose least time, less
     M_t h^2 / 8, is after `accept` holds no arrival; and omega at `accept` (or at a later time the
     three recorded): where a, m, b see the same turning points before the horizon (extended /
-    EXTEND), a half where it may have two zeros may hide one no sample sees, and is split. `soonest`:
-    the earliest time of what forced a split (the scan examines the halves in that order)."""
+    EXTEND), a half where it may have two zeros may hide one no sample sees, and is split unless the
+    arc running then runs through the interval and its energy excludes every target. A label seen by
+    some samples only splits the interval unless it is late and does not dip (`_dips`), or its arc's
+    energy excludes every target (`_energy_excludes`), as it does for a label whose angle the bound
+    leaves unresolved. `soonest`: the earliest time of what forced a split (the scan examines the
+    halves in that order)."""
     split, singular, brackets, soonest = False, math.inf, [], math.inf
     arrive = accept if arrive is None else arrive
     h = 0.5 * (b.phi - a.phi)
@@ -584,7 +624,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         # a turning point crossing that time unseen is of the arc running then (it cannot cross a switch):
         # none is an arrival where the same arc runs at a, m, b and its energy excludes every target
         arc = a.arc(end)
-        if not (m.arc(end) == arc == b.arc(end) and _energy_excludes(problem, a, m, b, arc, h)):
+        if not (_runs_through(a, m, b, arc, end, h) and _energy_excludes(problem, a, m, b, arc, h)):
             split, soonest = True, accept
     # labels in time order along an extremal, (arc, index in arc): once a label's turning point is
     # after the acceptance on a whole half, every later one is too (at each phi, later in time)

@@ -157,23 +157,13 @@ class Problem:
         return abs(self.x0[1]) / self.kappa + max(2 * math.sqrt(d / self.kappa), 1.2 * d / self.kappa)
 
     @property
-    def lower_bound(self):
-        """A lower bound of the minimum time, the larger of two:
-
-        - |theta''| <= kappa + 1, so no transfer is faster than the double integrator with that
-          bound, T = (-s*v + 2 sqrt(s*a*d + v^2/2)) / a for a = kappa + 1, d = theta* - theta0,
-          v = omega0, s = +1 when d > v|v|/(2a) (first accelerating), else -1. It grows with the
-          distance of theta* from the stopping point theta0 + v|v|/(2a) on either side, so on the
-          circle the least is at the branches nearest that point (not those nearest theta0: a fast
-          start stops many turns away).
-        - The energy E = omega^2/2 - cos(theta) changes at dE/dt = kappa u omega, and
-          |omega| <= F = sqrt(2 (E + 1)) = sqrt(omega^2 + 4 sin^2(theta/2)), so |dF/dt| <= kappa:
-          F goes from F0 to the target's F* (2 upright, 0 hanging) in T >= |F* - F0| / kappa, and
-          the angle covered, |d| <= integral of min(F0 + kappa t, F* + kappa (T - t)) dt
-          = kappa T^2/4 + S T/2 - D^2/(4 kappa) (S = F0 + F*, D = F* - F0), so also
-          T >= (sqrt(S^2 + D^2 + 4 kappa |d|) - S) / kappa; least on the circle at the branch
-          nearest theta0. At small kappa it is the larger: 2/kappa from rest to the upright,
-          480 from (0, 50) at kappa = 0.1 (the optimum 488.6)."""
+    def double_integrator_bound(self):
+        """A lower bound of the minimum time: |theta''| <= kappa + 1, so no transfer is faster than the
+        double integrator with that bound, T = (-s*v + 2 sqrt(s*a*d + v^2/2)) / a for a = kappa + 1,
+        d = theta* - theta0, v = omega0, s = +1 when d > v|v|/(2a) (first accelerating), else -1. It
+        grows with the distance of theta* from the stopping point theta0 + v|v|/(2a) on either side,
+        so on the circle the least is at the branches nearest that point (not those nearest theta0: a
+        fast start stops many turns away). The direct transcriptions bound T below by half of it."""
         a = self.kappa + 1
         theta0, omega0 = self.x0
         stop = theta0 + omega0 * abs(omega0) / (2 * a)
@@ -183,11 +173,26 @@ class Problem:
             d = self.target(k)[0] - theta0
             s = 1.0 if d > omega0 * abs(omega0) / (2 * a) else -1.0
             best = min(best, (-s * omega0 + 2 * math.sqrt(max(0.0, s * a * d + omega0**2 / 2))) / a)
+        return best
+
+    @property
+    def lower_bound(self):
+        """A lower bound of the minimum time, the larger of `double_integrator_bound` and the energy's:
+        E = omega^2/2 - cos(theta) changes at dE/dt = kappa u omega, and
+        |omega| <= F = sqrt(2 (E + 1)) = sqrt(omega^2 + 4 sin^2(theta/2)), so |dF/dt| <= kappa: F goes
+        from F0 to the target's F* (2 upright, 0 hanging) in T >= |F* - F0| / kappa, and the angle
+        covered, |d| <= integral of min(F0 + kappa t, F* + kappa (T - t)) dt
+        = kappa T^2/4 + S T/2 - D^2/(4 kappa) (S = F0 + F*, D = F* - F0), so also
+        T >= (sqrt(S^2 + D^2 + 4 kappa |d|) - S) / kappa; least on the circle at the branch nearest
+        theta0 (each of the two is least over the branches; their larger bounds the least of all). At
+        small kappa the energy's is the larger: 2/kappa from rest to the upright, 480 from (0, 50) at
+        kappa = 0.1 (the optimum 488.6)."""
+        theta0, omega0 = self.x0
         near = self.nearest_branch(theta0) if self.branch is None else self.branch
         f0, f1 = math.hypot(omega0, 2 * math.sin(theta0 / 2)), 2 * abs(math.sin(self.base / 2))
         total, change, d = f0 + f1, f1 - f0, abs(self.target(near)[0] - theta0)
         energy = max(abs(change), math.sqrt(total**2 + change**2 + 4 * self.kappa * d) - total) / self.kappa
-        return max(best, energy)
+        return max(self.double_integrator_bound, energy)
 
     def describe(self):
         """One line: kind, kappa, start, target set and reading."""

@@ -273,7 +273,7 @@ def _why(status, solver_message, limited, miss, miss_tol, bound):
 def _run(nlp, problem, guess, miss_tol):
     N = nlp.N
     theta, omega, u = guess.on_grid(N)
-    lbx, ubx = nlp.bounds(problem.x0, problem.nlp_target, (0.5 * problem.lower_bound, math.inf))
+    lbx, ubx = nlp.bounds(problem.x0, problem.nlp_target, (0.5 * problem.double_integrator_bound, math.inf))
     w0 = np.clip(nlp.pack(theta, omega, guess.T, u), lbx, ubx)
     start, cpu = time.perf_counter(), time.process_time()
     converged = None

@@ -622,7 +622,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                                 or (s0 * s1 > 0 and abs(s0 + s1) > bound * h))
     if hidden and b.phi - a.phi > 2 * MIN_WIDTH and alike:
         # a turning point crossing that time unseen is of the arc running then (it cannot cross a switch):
-        # none is an arrival where the same arc runs at a, m, b and its energy excludes every target
+        # none is an arrival where that arc runs through [a, b] then and its energy excludes every target
         arc = a.arc(end)
         if not (_runs_through(a, m, b, arc, end, h) and _energy_excludes(problem, a, m, b, arc, h)):
             split, soonest = True, accept

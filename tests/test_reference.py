@@ -97,7 +97,9 @@ def test_the_refinement_converges_from_a_perturbed_guess_to_the_same_digits():
 
 
 def test_a_random_sample_rebuilt_from_scratch_agrees():
-    """Two instances drawn at random among those computed in under 3 s, searched and refined again."""
+    """Two instances drawn at random among those computed in under 3 s, searched and refined again
+    (swing-up/circle/k2.48/x0=(-1.0097,-3.5296): stored to horizon 2.484, listing one arrival; rebuilt at
+    1405d57 to 2.755, where it lists also branch -2 at 2.679)."""
     cheap = [r for r in SOLVED if r["provenance"]["time_s"] < 3]
     sample = random.Random().sample(cheap, 2)
     for old in sample:
@@ -111,7 +113,11 @@ def test_a_random_sample_rebuilt_from_scratch_agrees():
             for s, t, e in zip(a["refined"]["switch_times"], b["refined"]["switch_times"],
                                a["refined"]["switch_time_errors"]):
                 assert abs(mpmath.mpf(s) - mpmath.mpf(t)) <= 2 * mpmath.mpf(e), old["id"]
-        assert len(old["extremals"]) == len(new["extremals"]), old["id"]
+        # every arrival before each record's coverage horizon is listed: before the lesser of the two
+        # the lists agree (past it, what one lists depends on where its horizon schedule ended)
+        horizon = min(old["coverage"]["horizon"], new["coverage"]["horizon"])
+        assert (sorted(e["branch"] for e in old["extremals"] if e["T"] <= horizon)
+                == sorted(e["branch"] for e in new["extremals"] if e["T"] <= horizon)), old["id"]
 
 
 def test_lookup_finds_a_problem_of_the_set_and_nothing_else():

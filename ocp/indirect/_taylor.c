@@ -63,15 +63,20 @@ static void series(Series *w, const double *y, double u, double kappa, const dou
         int k1 = k + 1;
         C(c, k1, 0) = C(c, k, 1) / k1;
         C(c, k1, 1) = ((k == 0 ? kappa * u : 0.0) - s[k]) / k1;
-        double acc = 0.0;
-        for (int j = 0; j < k1; j++)
-            acc += C(c, j, 3) * co[k - j];
-        C(c, k1, 2) = acc / k1;
         C(c, k1, 3) = -C(c, k, 2) / k1;
+        /* the independent sums of one order in one loop (each summed in its own order, as written
+         * apart: their latencies overlap): p2 cos(theta) (acc), sin(theta) p2 (gk), and the
+         * series of sin and cos, k s_k = sum_j j theta_j c_{k-j} (ss, term j + 1 at j) */
+        double acc = 0.0, gk = 0.0, ss = 0.0, cc = 0.0;
+        for (int j = 0; j <= k; j++) {
+            acc += C(c, j, 3) * co[k - j];
+            gk += s[j] * C(c, k - j, 3);
+            double jt = (j + 1) * C(c, j + 1, 0);
+            ss += jt * co[k - j];
+            cc += jt * s[k - j];
+        }
+        C(c, k1, 2) = acc / k1;
         if (d) {
-            double gk = 0.0;
-            for (int j = 0; j <= k; j++)
-                gk += s[j] * C(c, k - j, 3);
             g[k] = gk;
             double cdt = 0.0, cdp2 = 0.0, gdt = 0.0;
             for (int j = 0; j <= k; j++) {
@@ -84,19 +89,13 @@ static void series(Series *w, const double *y, double u, double kappa, const dou
             C(d, k1, 2) = (cdp2 - gdt) / k1;
             C(d, k1, 3) = -C(d, k, 2) / k1;
         }
-        double ss = 0.0, cc = 0.0;
-        for (int j = 1; j <= k1; j++) {
-            double jt = j * C(c, j, 0);
-            ss += jt * co[k1 - j];
-            cc += jt * s[k1 - j];
-        }
         s[k1] = ss / k1;
         co[k1] = -cc / k1;
     }
 }
 
-/* The Jorba-Zou step from the coefficients of y. */
-static double step(const double *c, int K, double tol)
+/* The Jorba-Zou step from the coefficients of y; safety = exp(-0.7 / (K - 1)) (`safety`). */
+static double step(const double *c, int K, double tol, double safety)
 {
     double h = 1e300;
     for (int k = K - 1; k <= K; k++) {
@@ -106,8 +105,11 @@ static double step(const double *c, int K, double tol)
         if (m > 0.0)
             h = min2(h, pow(tol / m, 1.0 / k));
     }
-    return h * exp(-0.7 / (K - 1));
+    return h * safety;
 }
+
+/* The Jorba-Zou safety factor of order K. */
+static double safety(int K) { return exp(-0.7 / (K - 1)); }
 
 /* Component i's polynomial at tau (Horner), and its derivative. */
 static double at(const double *c, int K, int i, double tau)
@@ -116,6 +118,22 @@ static double at(const double *c, int K, int i, double tau)
     for (int k = K - 1; k >= 0; k--)
         v = v * tau + C(c, k, i);
     return v;
+}
+
+/* The four components' polynomials at tau into v (each as `at`, their Horner steps interleaved). */
+static void at4(const double *c, int K, double tau, double *v)
+{
+    double v0 = C(c, K, 0), v1 = C(c, K, 1), v2 = C(c, K, 2), v3 = C(c, K, 3);
+    for (int k = K - 1; k >= 0; k--) {
+        v0 = v0 * tau + C(c, k, 0);
+        v1 = v1 * tau + C(c, k, 1);
+        v2 = v2 * tau + C(c, k, 2);
+        v3 = v3 * tau + C(c, k, 3);
+    }
+    v[0] = v0;
+    v[1] = v1;
+    v[2] = v2;
+    v[3] = v3;
 }
 
 static double slope(const double *c, int K, int i, double tau)
@@ -209,10 +227,11 @@ static Outcome integrate(Series *w, double *y, double *dy, double kappa, double 
     double t = 0.0;
     int in_arc = 0;
     Py_ssize_t n_sample = 0;
+    const double shrink = safety(K);
     while (t < duration) {
         o.steps++;
         series(w, y, u, kappa, dy);
-        double h = min2(step(c, K, tol), duration - t);
+        double h = min2(step(c, K, tol, shrink), duration - t);
         double stop = direction * h;
         int switched = 0;
         double before = 0.0;
@@ -261,17 +280,13 @@ static Outcome integrate(Series *w, double *y, double *dy, double kappa, double 
         }
         if (marked && t < mark && mark <= t + fabs(stop)) {
             double tau = direction * (mark - t);
-            for (int i = 0; i < 4; i++)
-                marked[i] = at(c, K, i, tau);
+            at4(c, K, tau, marked);
             if (d)
-                for (int i = 0; i < 4; i++)
-                    marked[4 + i] = at(d, K, i, tau);
+                at4(d, K, tau, marked + 4);
         }
-        for (int i = 0; i < 4; i++)
-            y[i] = at(c, K, i, stop);
+        at4(c, K, stop, y);
         if (d)
-            for (int i = 0; i < 4; i++)
-                dy[i] = at(d, K, i, stop);
+            at4(d, K, stop, dy);
         t += fabs(stop);
         if (switched) {
             /* p2(t_s) = 0: dt_s = dp2 / p1 (p2' = -p1); omega' jumps by kappa (u_new - u_old) */
@@ -446,11 +461,12 @@ static PyObject *py_bang(PyObject *self, PyObject *args)
         goto fail;
     Py_BEGIN_ALLOW_THREADS
     double y[4] = {x[0], x[1], 0.0, 0.0};
+    const double shrink = safety(K);
     for (Py_ssize_t a = 0; a < arcs; a++) {
         double t = 0.0;
         while (t < durations[a]) {
             series(&w, y, signs[a], kappa, NULL);
-            double step_h = min2(step(w.c, K, tol), durations[a] - t);
+            double step_h = min2(step(w.c, K, tol, shrink), durations[a] - t);
             for (int i = 0; i < 2; i++)
                 y[i] = at(w.c, K, i, step_h);
             t += step_h;

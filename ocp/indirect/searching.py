@@ -712,9 +712,9 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=No
         nonlocal duration
         while True:
             _, switches, _, events, _, _ = family.run(phi, u0, duration, accuracy)
-            hit = [e for e in events if (int(e[2]), int(e[3])) == label]
+            hit = [i for i, (arc, index) in enumerate(events[:, 2:4].tolist()) if (arc, index) == label]
             if hit or duration > 2 * t_guess + 10:
-                return (hit[0].copy() if hit else None), switches.copy()
+                return (events[hit[0]].copy() if hit else None), switches.copy()
             duration *= 1.5
 
     ends = [family._samples.get((phi, u0)) for phi in (lo, hi)]

@@ -60,6 +60,9 @@ def extremal(y0, kappa, u_start, duration, direction, tol, K, switches, events, 
     return n_sw, n_ev, y, u, steps
 
 
+_UNMARKED = np.full(8, np.nan)
+
+
 def extremal_variations(y0, dy0, kappa, u_start, duration, direction, tol, K, switches, events, mark=None):
     """`extremal` with the variations dy = dy/dphi from dy0 (a fresh start at costate angle phi:
     y0 = (theta0, omega0, cos phi, sin phi), dy0 = (0, 0, -sin phi, cos phi)); y, the switch and
@@ -74,7 +77,7 @@ def extremal_variations(y0, dy0, kappa, u_start, duration, direction, tol, K, sw
     omega and their dy bit for bit those of an integration stopped at the mark; p, dp there not
     normalised)."""
     y, dy = np.array(y0, dtype=float), np.array(dy0, dtype=float)
-    marked = None if mark is None else np.full(8, np.nan)
+    marked = None if mark is None else _UNMARKED.copy()
     n_sw, n_ev, u, steps = _taylor.extremal_variations(y, dy, kappa, u_start, duration, direction, tol, K,
                                                        switches, events, -1.0 if mark is None else mark, marked)
     return n_sw, n_ev, y, dy, u, steps, None if marked is None else (marked[:4], marked[4:])

@@ -681,9 +681,9 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                     reach_t = reach_t or _reaches(ta, tm, tb, dta, dtm, dtb, h)
                     spread = reach_t[half]
                     found.append((x0, x1, label, k, max(t0, t1), (min(t0, t1) - spread, max(t0, t1) + spread)))
-        if not resolved and _energy_excludes(problem, a, m, b, label[0], h):
-            continue
         if not resolved:
+            if _energy_excludes(problem, a, m, b, label[0], h):
+                continue
             split, soonest = True, min(soonest, ta, tm, tb)
             # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
             # meets a saddle there (the turning point's time is unbounded), no crossing hides in it

@@ -235,3 +235,38 @@ def test_the_independent_resimulation_carries_its_own_error_which_grows_with_the
     assert fast.resim_miss <= fast.certificate.final_state_error
     assert fast.certificate.final_state_error > 100 * swing_up_1.certificate.final_state_error
     assert swing_up_1.certificate.final_state_error < 1e-9
+
+
+#: the extremal the search found (at c922209) for benchmarks/search_residual.py seed 68879: damping
+#: at kappa = 0.3174556221612009 from (-2.804217956973881, -2.0965185221736995) to branch 1 on the
+#: plane, T = 25.0717904828: |p| falls from 197 on the first arc to 8 on the later ones
+SHRINKING_COSTATE = dict(kappa=0.3174556221612009, x0=(-2.804217956973881, -2.0965185221736995),
+                         signs=(1, -1, 1, -1), durations=(11.14399005297849, 7.73209818425512,
+                                                          3.411685302952762, 2.7840169426208057),
+                         p0=(57.880842416078856, 188.67319838577356))
+
+
+def _certify(case, scale=1.0):
+    from types import SimpleNamespace
+
+    from ocp.indirect import certificate
+    extremal = SimpleNamespace(signs=case["signs"], durations=np.array(case["durations"]),
+                               p0=scale * np.array(case["p0"]))
+    return certificate.certify(extremal, case["x0"], case["kappa"])
+
+
+def test_a_costate_shrinking_along_the_extremal_keeps_the_hamiltonians_integration_error_to_scale():
+    """CVODES's error in p is relative to the largest |p| integrated so far: after the first arc
+    (|p| about 200) |H| is 3e-8 and 6e-8 of the pointwise |p| |f| at CVODES tolerances 1e-13 and 1e-14
+    (the integrator's floor: it was refused), 9e-10 of the largest |p| times |f|, which the
+    first-order check uses."""
+    cert = _certify(SHRINKING_COSTATE)
+    assert cert.first_order and cert.certified
+    assert 1e-10 < cert.hamiltonian_deviation < 1e-8
+
+
+def test_a_costate_scaled_off_the_hamiltonians_zero_fails_the_first_order_check():
+    """p0 scaled by 1 + 1e-4 leaves the switching times but makes H = 1e-4 everywhere: refused."""
+    cert = _certify(SHRINKING_COSTATE, 1 + 1e-4)
+    assert not cert.first_order and not cert.certified
+    assert cert.hamiltonian_deviation > 1e-7

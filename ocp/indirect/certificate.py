@@ -8,7 +8,8 @@ reaches carries its own error estimate, its distance to the state the same integ
 tolerance ROUGH (`final_state_error`: CVODES's error grows with the trajectory's length, 1e-13
 over 4 time units, 2e-7 over 489 from (0, 50) at kappa = 0.1). On SAMPLES points of every arc, u = sign(p2) (s_i * p2 > 0 inside arc i), p2
 vanishes at each switch (relative to max |p2|) and nowhere else, and H = 0 (relative to
-max(1, |p| |f|)). Strict bang-bang: the
+max(1, P(t) |f|), P(t) the largest |p| up to t: the integration's error in p is relative to it, and
+a costate that shrinks from hundreds to units, as after a start near the upright, keeps it). Strict bang-bang: the
 switching function crosses zero transversally, p2'(t_j) = -p1(t_j) of the sign of s_{j+1} - s_j.
 
 Second order: the switching-time problem min sum(d) s.t. x(T; d) = target has the Lagrangian
@@ -109,13 +110,16 @@ def certify(extremal, x0, kappa):
     arcs = _arcs(y0, signs, durations, kappa)
     at_switch, y = [a[:, -1] for a in arcs[:-1]], arcs[-1][:, -1]
     p2_scale = max(np.max(np.abs(a[3])) for a in arcs)
-    sign_violation, extra_zeros, h_dev = 0.0, 0, 0.0
+    sign_violation, extra_zeros, h_dev, p_seen = 0.0, 0, 0.0, 0.0
     for s, a in zip(signs, arcs):
         inner = s * a[3, 1:-1]
         sign_violation = max(sign_violation, float(np.max(-inner, initial=0.0)) / p2_scale)
         extra_zeros += int(np.sum(np.diff(np.sign(inner)) != 0))
-        # |H| relative to the size of p . f, whose rounding and integration error it carries
-        size = np.hypot(a[2], a[3]) * np.hypot(*model.rhs(a[:2], s, kappa))
+        # |H| relative to the size of p . f, whose rounding and integration error it carries: the
+        # error of p is relative to the largest |p| integrated up to that point
+        p_size = np.maximum.accumulate(np.maximum(np.hypot(a[2], a[3]), p_seen))
+        p_seen = float(p_size[-1])
+        size = p_size * np.hypot(*model.rhs(a[:2], s, kappa))
         h_dev = max(h_dev, float(np.max(np.abs(model.hamiltonian(a[:2], a[2:], s, kappa)) / np.maximum(1.0, size))))
     switch_residual = max((abs(v[3]) for v in at_switch), default=0.0) / p2_scale
     slopes = tuple(float(-v[2]) for v in at_switch)

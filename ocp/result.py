@@ -313,8 +313,10 @@ class Solution:
             gap = self.runner_up.T - self.answer.T
             text += (f"; the runner-up extremal takes {digits(self.runner_up.T, self.runner_up.T_error)} "
                      f"({100 * gap / self.answer.T:.3g} % slower)")
-        else:
+        elif self.coverage.complete:
             text += "; no other extremal before the horizon"
+        else:
+            text += "; no other extremal found before the scan ended"
         return text
 
     def to_dict(self):

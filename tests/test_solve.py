@@ -194,6 +194,25 @@ def test_a_search_cut_by_the_time_limit_is_stopped_not_optimal(monkeypatch):
     assert sol.to_dict()["status"] == "stopped" and "not proven optimal" in sol.to_dict()["message"]
 
 
+@pytest.mark.parametrize("stopped", [False, True])
+def test_a_lone_arrival_is_alone_before_the_horizon_only_if_the_scan_is_complete(monkeypatch, stopped):
+    """The best arrival of swing-up kappa = 1 without its runner-up: the verdict says no other
+    extremal precedes the horizon where the scan covered it, and only that none was found where the
+    time limit cut it (a stopped scan to 48 that had found only the best printed the first)."""
+    import dataclasses
+
+    from ocp import solving
+    from ocp.indirect import searching
+
+    problem = ocp.swing_up(1.0)
+    found = searching.search(problem)
+    alone = searching.Search(found.arrivals[:1], dataclasses.replace(found.coverage, stopped=stopped), found.notes)
+    monkeypatch.setattr(solving, "search_extremals", lambda *args: alone)
+    verdict = ocp.solve(problem).verdict
+    assert ("no other extremal before the horizon" in verdict) == (not stopped)
+    assert ("no other extremal found before the scan ended" in verdict) == stopped
+
+
 def test_a_tiny_time_limit_on_a_hard_case_ends_it_and_says_so():
     """Damping at kappa = 0.05 from a moving start (tens of seconds of search): 0.01 s of it ends
     with STOPPED (an answer, not proven optimal) or STOPPED_EMPTY (none: a failure)."""

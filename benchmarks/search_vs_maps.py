@@ -1,0 +1,178 @@
+"""The search against the synthesis maps, an independent route to the same optimum: the field of
+extremals integrated backwards in time from the target (`ocp.synthesis.field`), on random cells of
+random maps. One JSON line per cell (resumable by map seed).
+
+    python benchmarks/search_vs_maps.py OUT.jsonl FIRST_MAP LAST_MAP [--cells K]
+    python benchmarks/search_vs_maps.py --summary FILE.jsonl...
+
+Map seed s (`map_case`): the kind, the reading (the circle, or the plane with branch 0 pinned),
+kappa log-uniform in [0.2, 10], the window theta in [-pi, pi] (the circle) or [-2 pi, 2 pi] (the
+plane), omega in [-3, 3], and the horizon HORIZON(kappa). The map is drawn twice: on a grid of
+COARSE nodes per axis from the field sampled at SAMPLES times, and on one of 2 COARSE - 1 nodes (every
+coarse node is one of it) from the field sampled at 2 SAMPLES times. A map's value at a node is the
+linear interpolation of the time-to-go on the field's triangles, which spans a few cells and a
+sample time; its error falls about fourfold when both halve, so the fine map's value V is the
+reference and SAFETY times its difference from the coarse map's is its error estimate. K random
+nodes drawn in both maps, with V at most 0.9 times the horizon, are each solved by the search
+alone (`ocp.indirect.search`, the map's reading; TIME_LIMIT s), and compared with the map's own
+extremal there, solved exactly (`through`): the extremal of the fine map's final costate angle at
+the node (its branch on the circle), by Newton in (psi, s) from the map's (psi, V) to pass through
+x0 exactly (PRECISE integration backwards from the target with its variations in psi): its
+time-to-go s from x0 is that of an admissible extremal, so s >= T* and the search must find it.
+
+    same extremal  |s - T| <= T_error + EXACT max(1, T)
+    search missed  s below that: an extremal faster than the search's answer, not reported by it
+    map slower     s above it: the map's strip at the node holds a slower extremal (near a switching
+                   or dispersal curve the nearest triangle may be another extremal's)
+    unsettled      Newton did not converge; then "agree" (|T - V| <= SAFETY |V_coarse - V| +
+                   T_error + FLOOR max(1, V)), "search slower" or "map slower" by the maps' values
+    (status)       the search not proven optimal: "best found", "stopped", "none" (not compared)
+
+A line: the map seed and case, the state, V, the coarse V, the search's status, T and T_error,
+the verdict (with the exact s where settled), seconds, and the commit of the code that ran
+(`git describe --always --dirty`).
+"""
+
+import json
+import math
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ocp.core.problem import KINDS, make
+from ocp.indirect import search, taylor
+from ocp.synthesis.field import Window, synthesize
+
+COARSE, SAMPLES = 81, 400
+#: seconds of search per cell (wall: a stopped search is recorded as such)
+TIME_LIMIT = 30.0
+SAFETY = 3.0
+#: relative agreement below which the map's error estimate is not trusted to resolve (rounding of the
+#: field's SCAN integration, the raster's float arithmetic)
+FLOOR = 1e-7
+#: relative agreement of the search's T and the exact time of the map's extremal: the same extremal
+EXACT = 1e-9
+
+
+def horizon(kappa):
+    """The maps' horizon: the time to go of the slowest state of the window, about 6 / kappa from
+    rest at the bottom for small kappa, plus room."""
+    return min(8.0 + 6.0 / kappa, 40.0)
+
+
+def map_case(seed):
+    """(kind, reading, kappa, window bounds) of map `seed`."""
+    rng = np.random.default_rng(seed)
+    kind = str(rng.choice(["swing-up", "damping"]))
+    reading = str(rng.choice(["circle", "plane"]))
+    kappa = float(10 ** rng.uniform(math.log10(0.2), 1))
+    span = math.pi if reading == "circle" else 2 * math.pi
+    return kind, reading, kappa, (-span, span, -3.0, 3.0)
+
+
+def through(kind, kappa, x0, psi, s):
+    """(s, psi) of the extremal that ends at the target (base, 0) with final costate angle psi and
+    passes through x0 (shifted by the map's branch) after the time-to-go s, by Newton in (psi, s) from
+    the map's (psi, s); None if it does not converge in 30 steps. Backwards from the target
+    (`taylor.extremal_variations`, direction -1, PRECISE), the state at elapsed s and its
+    derivative in psi; d/ds of the state is -f(x, u), u = sign(p2) there."""
+    tol, order = taylor.PRECISE
+    switches, events = np.empty((512, 8)), np.empty((512, 8))
+    for _ in range(30):
+        y0 = np.array([KINDS[kind].target_base, 0.0, math.cos(psi), math.sin(psi)])
+        dy0 = np.array([0.0, 0.0, -math.sin(psi), math.cos(psi)])
+        u_end = 1.0 if math.sin(psi) > 0 else -1.0
+        n_sw, n_ev, *_, (y, dy) = taylor.extremal_variations(y0, dy0, kappa, u_end, s * 1.001 + 1e-9, -1.0, tol, order,
+                                                             switches, events, s)
+        if n_sw > len(switches) or n_ev > len(events):
+            return None
+        u = 1.0 if y[3] > 0 else -1.0
+        miss = np.array([y[0] - x0[0], y[1] - x0[1]])
+        if np.max(np.abs(miss)) < 1e-12 * max(1.0, abs(x0[0])):
+            return s, psi
+        jacobian = np.array([[dy[0], -y[1]], [dy[1], -(kappa * u - math.sin(y[0]))]])
+        try:
+            step = np.linalg.solve(jacobian, -miss)
+        except np.linalg.LinAlgError:
+            return None
+        psi, s = psi + float(step[0]), s + float(step[1])
+        if not (s > 0 and math.isfinite(psi)):
+            return None
+    return None
+
+
+def compare(seed, cells, commit):
+    """The lines of map `seed`: `cells` random nodes, each searched and compared with the maps."""
+    kind, reading, kappa, bounds = map_case(seed)
+    T_max = horizon(kappa)
+    coarse = synthesize(kind, kappa, reading, Window(*bounds, COARSE, COARSE), T_max, SAMPLES)
+    fine = synthesize(kind, kappa, reading, Window(*bounds, 2 * COARSE - 1, 2 * COARSE - 1), T_max, 2 * SAMPLES)
+    V_fine = fine.V[::2, ::2]
+    usable = np.argwhere(np.isfinite(coarse.V) & np.isfinite(V_fine) & (V_fine <= 0.9 * T_max))
+    rng = np.random.default_rng([seed, 1])
+    picked = usable[rng.choice(len(usable), size=min(cells, len(usable)), replace=False)] if len(usable) else []
+    for i, j in picked:
+        x0 = (float(coarse.window.theta[i]), float(coarse.window.omega[j]))
+        V, V_coarse = float(V_fine[i, j]), float(coarse.V[i, j])
+        begun = time.time()
+        found = search(make(kind, kappa, x0, None if reading == "circle" else 0), time_limit=TIME_LIMIT)
+        row = {"map": seed, "kind": kind, "reading": reading, "kappa": kappa, "x0": list(x0), "V": V,
+               "V_coarse": V_coarse, "status": found.status, "commit": commit}
+        if found.status == "optimal":
+            T, T_error = found.best.T, found.best.T_error
+            branch = int(fine.branch[2 * i, 2 * j])
+            exact = through(kind, kappa, (x0[0] - 2 * math.pi * branch, x0[1]), float(np.mean(fine.psi[2 * i, 2 * j])), V)
+            row.update(T=T, T_error=T_error, map_branch=branch)
+            if exact is not None:
+                tolerance = T_error + EXACT * max(1.0, T)
+                verdict = "same extremal" if abs(exact[0] - T) <= tolerance else \
+                    ("search missed" if exact[0] < T else "map slower")
+                row.update(exact_s=exact[0], exact_psi=exact[1], tolerance=tolerance, verdict=verdict)
+            else:
+                tolerance = SAFETY * abs(V_coarse - V) + T_error + FLOOR * max(1.0, V)
+                verdict = "agree" if abs(T - V) <= tolerance else ("search slower" if T > V else "map slower")
+                row.update(tolerance=tolerance, verdict="unsettled, " + verdict)
+        else:
+            row.update(verdict=found.status)
+        row["seconds"] = time.time() - begun
+        yield row
+
+
+def summary(paths):
+    """The cells by verdict, and every cell where the search is slower than the map."""
+    rows = [json.loads(line) for path in paths for line in Path(path).read_text().splitlines()]
+    verdicts = {}
+    for r in rows:
+        verdicts[r["verdict"]] = verdicts.get(r["verdict"], 0) + 1
+    maps = len({r["map"] for r in rows})
+    print(f"{len(rows)} cells of {maps} maps: {', '.join(f'{n} {v}' for v, n in sorted(verdicts.items()))}")
+    for r in rows:
+        if r["verdict"] in ("search missed", "unsettled, search slower"):
+            exact = f", the map's extremal exactly {r['exact_s']:.12g}" if "exact_s" in r else ""
+            print(f"  {r['verdict']}: map {r['map']} {r['kind']} {r['reading']} kappa={r['kappa']:.5g} "
+                  f"x0=({r['x0'][0]:.6g}, {r['x0'][1]:.6g}): T = {r['T']:.12g}, V = {r['V']:.10g} "
+                  f"(coarse {r['V_coarse']:.10g}){exact}")
+
+
+def main():
+    if sys.argv[1] == "--summary":
+        return summary(sys.argv[2:])
+    out_path, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+    cells = int(sys.argv[sys.argv.index("--cells") + 1]) if "--cells" in sys.argv else 100
+    commit = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=Path(__file__).parent, capture_output=True,
+                            text=True).stdout.strip() or "unknown"
+    done = {json.loads(line)["map"] for line in Path(out_path).read_text().splitlines()} if Path(out_path).exists() else set()
+    with open(out_path, "a") as out:
+        for seed in range(first, last):
+            if seed in done:
+                continue
+            for row in compare(seed, cells, commit):
+                out.write(json.dumps(row) + "\n")
+            out.flush()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

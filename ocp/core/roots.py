@@ -48,17 +48,20 @@ def brent(f, a, b, xtol=0.0, fa=None, fb=None):
     return b
 
 
-def minimum(f, a, b, xtol):
+def minimum(f, a, b, xtol, below=None):
     """(x, f(x)) at a minimum of f on [a, b], x to xtol + sqrt(eps) |x|: Brent's bounded
     minimisation (golden sections and parabolic steps; Brent 1973, procedure localmin, as
     Forsythe, Malcolm and Moler's fmin), operation for operation scipy's
     `minimize_scalar(method="bounded")` (scipy 1.17, `_minimize_scalar_bounded`, maxiter 500), so
-    that its answer is bit-identical to scipy's."""
+    that its answer is bit-identical to scipy's. With `below`: the first point it evaluates where
+    f < below, as soon as there is one (else the minimum)."""
     sqrt_eps, golden_mean = math.sqrt(2.2e-16), 0.5 * (3.0 - math.sqrt(5.0))
     fulc = a + golden_mean * (b - a)
     nfc = xf = fulc
     rat = e = 0.0
     fx = ffulc = fnfc = f(xf)
+    if below is not None and fx < below:
+        return xf, fx
     xm = 0.5 * (a + b)
     tol1 = sqrt_eps * abs(xf) + xtol / 3.0
     tol2 = 2.0 * tol1
@@ -88,6 +91,8 @@ def minimum(f, a, b, xtol):
             rat = golden_mean * e
         x = xf + (_sign(rat) + (rat == 0)) * max(abs(rat), tol1)
         fu = f(x)
+        if below is not None and fu < below:
+            return x, fu
         if fu <= fx:
             if x >= xf:
                 a = xf

@@ -42,7 +42,10 @@ def _ends(kind):
 
 # --- quadrature ---------------------------------------------------------------------------------
 
-_NODES = {n: np.polynomial.legendre.leggauss(n) for n in (32, 64)}
+#: Gauss-Legendre nodes and weights with 32 and 64 nodes on [-1, 1], the nodes side by side (one call of
+#: the integrand evaluates both rules)
+_WEIGHTS = [np.polynomial.legendre.leggauss(n)[1] for n in (32, 64)]
+_NODES = np.concatenate([np.polynomial.legendre.leggauss(n)[0] for n in (32, 64)])
 
 
 def _gauss(f, a, b, depth=0):
@@ -52,12 +55,12 @@ def _gauss(f, a, b, depth=0):
     far below rounding) or to twice the rounding bound, else the interval is halved; the error
     bound is the 32-64 difference squared over int |f|, plus the integrated rounding bound, plus
     4 eps int |f| for the sum."""
-    values = []
-    for x, w in _NODES.values():
-        y, dy = f(0.5 * (b - a) * x + 0.5 * (a + b))
-        h = 0.5 * abs(b - a)
-        values.append((math.copysign(h, b - a) * np.dot(w, y), h * np.dot(w, np.abs(y)), h * np.dot(w, dy)))
-    (coarse, _, _), (value, size, rounding) = values
+    y, dy = f(0.5 * (b - a) * _NODES + 0.5 * (a + b))
+    h = 0.5 * abs(b - a)
+    (w32, w64), n = _WEIGHTS, len(_WEIGHTS[0])
+    coarse = math.copysign(h, b - a) * np.dot(w32, y[:n])
+    value, size, rounding = math.copysign(h, b - a) * np.dot(w64, y[n:]), h * np.dot(w64, np.abs(y[n:])), \
+        h * np.dot(w64, dy[n:])
     if abs(value - coarse) <= max(1e-11 * size, 2 * rounding):
         return float(value), float((value - coarse) ** 2 / size + rounding + 4 * EPS * size)
     if depth == 40:
@@ -282,14 +285,16 @@ def _feasible_rhos(kappa):
     return lo, brent(lambda r: math.cos(r) + kappa * r - hump, lo, 0.0, 1e-17)
 
 
-def _steepest(kappa):
+def _steepest(kappa, rising=False):
     """(rho, dT/drho) at the maximum of dT/drho over _feasible_rhos (None if empty); dT/drho -> -inf
     at the left end, and rises to +inf at the right end for kappa < one_switch_bound(), or falls
-    back to -inf at rho = 0 above it. Located by bounded Brent to 1e-10 in rho."""
+    back to -inf at rho = 0 above it. Located by bounded Brent to 1e-10 in rho. `rising`: the first
+    point of that search where dT/drho > 0, if there is one (dT/drho > 0 only between the local
+    minimum of T and its maximum or the right end: the right end of a bracket of that minimum)."""
     interval = _feasible_rhos(kappa)
     if interval is None:
         return None
-    x, value = minimum(lambda r: -stationarity(r, kappa)[0], *interval, 1e-10)
+    x, value = minimum(lambda r: -stationarity(r, kappa)[0], *interval, 1e-10, 0.0 if rising else None)
     return x, -value
 
 
@@ -312,21 +317,21 @@ def two_switch(kind, kappa):
     u = -1 to (xi, -F(xi, rho)), u = +1 through its turning point (rho, 0) to (eta, F(eta, rho)),
     u = -1 into (pi, 0), where rho is the local minimum of three_arc_time, the root of
     stationarity(rho) = dT/drho = 0 between the left end of _feasible_rhos (where dT/drho -> -inf
-    as xi -> rho) and the maximum of dT/drho.
+    as xi -> rho) and a point where dT/drho > 0 (`_steepest`).
     Damping (pi, 0) -> (0, 0) is its time reversal (same u sequence). Exists for
     two_switch_range()[0] < kappa < two_switch_range()[1] (0.42227... < kappa < 0.81534...); else ValueError.
     error bounds the quadratures and the propagated error of rho (|dT/drho error| / T'')."""
     _check_kind(kind)
-    peak = _steepest(kappa)
+    peak = _steepest(kappa, rising=True)
     if peak is None or peak[1] <= 0:
         low, high = two_switch_range()
         raise ValueError(f"no two-switch {kind} for kappa = {kappa}: three_arc_time has no local minimum "
                          f"(it has one for {low!r} < kappa < {high!r})")
-    lo, rho_peak = _feasible_rhos(kappa)[0], peak[0]
-    a = next(a for a in lo + (rho_peak - lo) * 0.1 ** np.arange(1, 17) if stationarity(a, kappa)[0] < 0)
-    rho = brent(lambda r: stationarity(r, kappa)[0], a, rho_peak, 1e-17)
+    lo, rising = _feasible_rhos(kappa)[0], peak[0]
+    a = next(a for a in lo + (rising - lo) * 0.1 ** np.arange(1, 17) if stationarity(a, kappa)[0] < 0)
+    rho = brent(lambda r: stationarity(r, kappa)[0], a, rising, 1e-17)
     slope_error = stationarity(rho, kappa)[1]
-    h = 0.5 * min(1e-4, rho - lo, rho_peak - rho)
+    h = 0.5 * min(1e-4, rho - lo, rising - rho)
     curvature = (stationarity(rho + h, kappa)[0] - stationarity(rho - h, kappa)[0]) / (2 * h)
     drho = 2 * slope_error / curvature + 8 * EPS * abs(rho)
     bb, moved = _two_switch_at(rho, kappa), _two_switch_at(rho + drho, kappa)

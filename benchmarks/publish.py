@@ -304,7 +304,7 @@ def timings(commit, records, time_tests, previous):
     lines += [f"| `{c}` | {_duration(s)} | {k[:10]} |" for c, s, k in rows]
     shown = "python benchmarks/search_speed.py --processes"
     _, processes = run([sys.executable, "benchmarks/search_speed.py", "--processes"], shown)
-    lines += ["", f"The standard cases, a whole process and the search alone (`{shown}`):", "", processes.strip()]
+    lines += ["", f"The standard cases, a whole process (its bytecode compiled first, as `pip install` does) and the search alone (`{shown}`):", "", processes.strip()]
     replace_block(ROOT / "README.md", "timings", "\n".join(lines) + f"\n\n{stamp(record)}")
     return record
 

@@ -22,15 +22,21 @@ within TEXTBOOK_BUDGET s of solves), and the ratio of the two times. --chart DIR
 
 With --processes: per standard case, a whole `ocp solve KIND --kappa K --json` process and the
 search alone (warm), beside the goals of issue 22 (PROCESS_GOAL_S, SEARCH_GOAL_S).
+
+Every whole process is timed with the package's bytecode compiled first (`compileall`, as `pip
+install` does): where PYTHONDONTWRITEBYTECODE is set (as on the machines of this project) a module
+changed since its bytecode was last written would otherwise be compiled again in every process.
 """
 
 import argparse
+import compileall
 import math
 import platform
 import statistics
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import ocp
 from ocp import direct
@@ -77,6 +83,8 @@ def exact_T(problem):
 
 
 def process_time(args, repeats=3):
+    """Median wall seconds of `repeats` runs of the command `args`, the package's bytecode compiled first."""
+    compileall.compile_dir(Path(ocp.__file__).parent, quiet=1)
     times = []
     for _ in range(repeats):
         start = time.perf_counter()

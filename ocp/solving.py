@@ -1,10 +1,13 @@
 """`ocp.solve`: the minimum time of a problem, and how each method fares against it.
 
-    [direct transcription]     if a method is given: its answer, verified by re-simulation; its
-                               T (when verified, or a discretisation result) sets the search's horizon,
-                               so that the extremal it converged to is found and classified
+    [direct transcription]     if a method is given: its answer, verified by re-simulation
     complete extremal search   every extremal reaching the target set before the horizon
                                (`ocp.indirect.searching`); the least T is the answer, ties reported
+    [on to the direct T]       if the direct answer (verified, or a discretisation result) is slower
+                               than the search's horizon over (1 + margin) and no extremal found has
+                               its structure: a scan on to (1 + margin) times its T, so that the
+                               extremal it converged to is found and classified, cut after
+                               CLASSIFY_FACTOR times the search's time (then beyond the horizon)
     verification and certificate  the answer's state and costate integrated again by CVODES, with
                                the costate of automatic differentiation: the miss at the target
                                and the first- and second-order conditions (`ocp.indirect.certificate`)
@@ -31,6 +34,9 @@ from .result import Answer, DirectClass, SolveStatus, Solution
 #: the answer's re-simulated miss must be below this (a refined extremal lands to ~1e-12), plus the
 #: re-simulation's own error estimate (`Certificate.final_state_error`, which grows with the length)
 VERIFY_TOL = 1e-8
+#: the scan on to a slower direct answer's T runs at most this many times the search's own time, and at
+#: least CLASSIFY_MIN_S seconds (within the time limit): cut there, the direct answer is beyond the horizon
+CLASSIFY_FACTOR, CLASSIFY_MIN_S = 2.0, 2.0
 
 
 def _tie(a, b):
@@ -84,6 +90,29 @@ def classify(direct, answer, ties, extremals, horizon):
     return DirectClass.BEYOND_HORIZON if direct.T > horizon else DirectClass.WRONG_STRUCTURE
 
 
+def _on_to_direct(problem, direct, found, margin, budget, progress):
+    """(extremals, reach, note) against which to classify a direct answer: the extremals found and
+    the direct T up to which the classification holds, the complete scan's horizon over (1 + margin)
+    (a discretised T is not exact). A bang-bang direct answer past that reach, of a structure (arc
+    signs, branch) no extremal found has, is scanned on to: to (1 + margin) times its T, cut after
+    `budget` seconds (then the search's extremals and those the cut scan found of other structures,
+    and the search's reach)."""
+    extremals, reach = found.arrivals, found.coverage.horizon / (1 + margin)
+    structure = lambda e: (tuple(e.signs), e.branch)
+    if not (direct is not None and direct.lands_on_target and math.isfinite(direct.T) and direct.T > reach
+            and direct.structure.bang_bang and found.coverage.complete and budget > 0) \
+            or (tuple(direct.structure.arc_signs), direct.branch) in {structure(e) for e in extremals}:
+        return extremals, reach, None
+    on = _search(problem, direct.T * (1 + margin) / (1 - HORIZON_BAND), margin, budget, progress)
+    if on.coverage.complete:
+        return (on.arrivals, on.coverage.horizon / (1 + margin),
+                f"scanned on to {on.coverage.horizon:.4g} to classify the direct answer")
+    seen = {structure(e) for e in extremals}
+    extremals = tuple(sorted((*extremals, *(e for e in on.arrivals if structure(e) not in seen)), key=lambda e: e.T))
+    return extremals, reach, (f"the scan on to the direct answer's T = {direct.T:.4g} was cut after {budget:.2g} s "
+                              f"(at most {CLASSIFY_FACTOR:g} times the search's time, at least {CLASSIFY_MIN_S:g} s)")
+
+
 def _search(problem, horizon, margin, time_limit, progress):
     """The search, its reports given to `progress` as lines from QUIET_S seconds on. Until its first
     report (which comes after its first integration, where the compiled kernels are loaded, or
@@ -119,7 +148,8 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
 
     method, solver, options, guess, miss_tol, trusted: the direct transcription (`ocp.direct.solve`),
     run only when `method` is given or `search` is False; the answer comes from the search unless
-    `search` is False, which scans to (1 + margin) times the optimum (or the direct T) at least.
+    `search` is False; it scans to (1 + margin) times the optimum at least (to classify a slower direct
+    answer, on to (1 + margin) times its T: `_on_to_direct`).
     miss_tol None: `ocp.direct.MISS_TOL`. time_limit: seconds of search at most, then the best answer
     so far, not proven optimal (`ocp.indirect.search`): status STOPPED, or STOPPED_EMPTY if none was
     found. progress: None or a callable given a line of
@@ -142,11 +172,12 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
                         resim_miss=direct.resim_miss if best else None,
                         crosscheck=_crosscheck(problem, best) if best else None,
                         direct_time_s=direct_time, total_time_s=time.perf_counter() - start)
-    horizon = None
-    if direct is not None and direct.lands_on_target and math.isfinite(direct.T):
-        horizon = direct.T * (1 + margin) / (1 - HORIZON_BAND)
     begun = time.perf_counter()
-    found = _search(problem, horizon, margin, time_limit, progress)
+    found = _search(problem, None, margin, time_limit, progress)
+    search_time = time.perf_counter() - begun
+    budget = max(CLASSIFY_FACTOR * search_time, CLASSIFY_MIN_S)
+    budget = budget if time_limit is None else min(budget, time_limit - search_time)
+    extremals, reach, note = _on_to_direct(problem, direct, found, margin, budget, progress)
     search_time = time.perf_counter() - begun
     answer, ties, runner_up = _ranked(found.arrivals)
     begun = time.perf_counter()
@@ -168,11 +199,10 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
         else:
             status = SolveStatus.BEST_FOUND
     certificate_time = time.perf_counter() - begun
-    direct_class = None if direct is None or answer is None else classify(direct, answer, ties, found.arrivals,
-                                                                          found.coverage.horizon)
+    direct_class = None if direct is None or answer is None else classify(direct, answer, ties, extremals, reach)
     return Solution(problem=problem, status=status, best=Answer.of_extremal(answer) if status >= 0 else None,
-                    answer=answer, ties=ties, runner_up=runner_up, extremals=found.arrivals, coverage=found.coverage,
+                    answer=answer, ties=ties, runner_up=runner_up, extremals=extremals, coverage=found.coverage,
                     resim_miss=miss, certificate=certificate, crosscheck=crosscheck, direct=direct,
-                    direct_class=direct_class, notes=found.notes, search_time_s=search_time,
+                    direct_class=direct_class, notes=found.notes + ((note,) if note else ()), search_time_s=search_time,
                     certificate_time_s=certificate_time, direct_time_s=direct_time,
                     total_time_s=time.perf_counter() - start)

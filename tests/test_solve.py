@@ -128,6 +128,41 @@ def test_a_direct_local_optimum_is_classified_as_such():
     assert sol.direct_class == DirectClass.LOCAL_OPTIMUM and sol.branch == -1
 
 
+def _direct_like(extremal, **changed):
+    """A verified direct answer with the structure and T of `extremal` (what ocp.solving reads of one)."""
+    from types import SimpleNamespace
+
+    from ocp.direct import DirectStatus
+    fields = {"status": DirectStatus.VERIFIED, "lands_on_target": True, "T": extremal.T, "T_bound": None,
+              "branch": extremal.branch, "structure": SimpleNamespace(bang_bang=True, arc_signs=extremal.signs)}
+    return SimpleNamespace(**{**fields, **changed})
+
+
+def test_a_slower_direct_answer_is_classified_by_a_scan_on_to_its_time_cut_by_a_budget():
+    from ocp.indirect import search
+    from ocp.solving import MARGIN, _on_to_direct, classify
+    problem = ocp.swing_up(1.0)
+    found = search(problem)
+    reach = found.coverage.horizon / (1 + MARGIN)
+    known = {(e.signs, e.branch) for e in found.arrivals}
+    slower = [e for e in search(problem, margin=2.0).arrivals if e.T > reach and (e.signs, e.branch) not in known]
+    assert slower, "an extremal beyond the plain search's reach, of a structure it did not find"
+    local = _direct_like(slower[0])
+    extremals, on, note = _on_to_direct(problem, local, found, MARGIN, 60.0, None)
+    assert on >= slower[0].T and note.startswith("scanned on to")
+    assert classify(local, found.best, (), extremals, on) == DirectClass.LOCAL_OPTIMUM
+    # a structure no extremal has (an odd branch with the arcs of another), as slow: complete, so wrong
+    wrong = _direct_like(slower[0], branch=slower[0].branch + 7)
+    extremals, on, _ = _on_to_direct(problem, wrong, found, MARGIN, 60.0, None)
+    assert on >= wrong.T and classify(wrong, found.best, (), extremals, on) == DirectClass.WRONG_STRUCTURE
+    # cut at once: nothing is claimed past what the search scanned completely
+    extremals, on, note = _on_to_direct(problem, local, found, MARGIN, 1e-9, None)
+    assert on == reach and "was cut" in note
+    assert classify(local, found.best, (), extremals, on) == DirectClass.BEYOND_HORIZON
+    # an answer the search already found, or one within its reach, is not scanned on
+    assert _on_to_direct(problem, _direct_like(found.best), found, MARGIN, 60.0, None) == (found.arrivals, reach, None)
+
+
 def test_no_refine_answers_carry_optimality_unknown():
     sol = ocp.solve(ocp.swing_up(1.0), search=False)
     assert sol.status == SolveStatus.DIRECT_ONLY and sol.success and sol.optimal is None

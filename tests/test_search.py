@@ -261,6 +261,22 @@ def test_a_bracket_whose_root_is_not_found_leaves_the_search_incomplete(monkeypa
     assert not arrivals and coverage.n_unresolved > 0 and not coverage.complete
 
 
+def test_a_bracket_whose_root_is_not_found_is_examined_again_split_where_it_did_not_lower_the_acceptance():
+    """benchmarks/search_residual.py, seed 54002 (at 5c1e2b7): damping at kappa = 0.33113 from
+    (0.0292, 1.3396) to branch 1. On [6.27781, 6.27960] (u0 = -1) the turning point (5, 0) runs into
+    a saddle between two samples and its angle jumps from theta* + 3.4 to theta* - 2.9; their slopes
+    (-2.0e3, -4.9e3, the chord's -3.5e3) look like one crossing, so it was bracketed, Newton found no
+    root, and the search was "best found". Examined again, split, the halves show that turning
+    point after the acceptance there: optimal, every arrival of the brute force found."""
+    problem = make("damping", 0.331130639498098, (0.029206067860419793, 1.3396123668277085), 1)
+    result = S.search(problem)
+    assert result.status == "optimal"
+    horizon = result.coverage.horizon
+    brute = [T for T in brute_force(problem, horizon) if T <= horizon * 0.999]
+    assert brute and min(a.T for a in result.arrivals) == pytest.approx(min(brute), rel=1e-11)
+    assert not [T for T in brute if not any(abs(T - a.T) <= 1e-8 * T for a in result.arrivals)]
+
+
 def test_the_acceptance_kept_as_brackets_are_added_is_the_one_of_all_of_them():
     """`_Acceptance.add` against its definition over all brackets at once: with B the least latest
     bound, the least of (1 + margin) B and (margin <= MARGIN) the latest bounds of the brackets whose

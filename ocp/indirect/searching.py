@@ -69,8 +69,11 @@ not proven, it is measured (benchmarks/search_residual.py: the search against an
 states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split, unless its time there is late (DIP) and stays
 after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Intervals are not split
-below MIN_WIDTH; such an interval that is still unresolved is reported, as is a bracket whose root
-is not found (a sign change that is a jump, not a crossing). The labels are examined in time order
+below MIN_WIDTH; such an interval that is still unresolved is reported. A bracket whose root is not
+found (a sign change that is a jump, not a crossing, between samples whose values and slopes showed
+one crossing: the residual assumption failing, and caught) is examined again and split, where the
+acceptance without it is the one reached (it lowered nothing); else, or at MIN_WIDTH, it is reported
+too. The labels are examined in time order
 along the extremal: once one is after the acceptance on a whole half, so is every later one. The
 acceptance itself falls as arrivals are bracketed, to the runner-up's latest time (or 1 + margin
 times the best's: `_Acceptance`), so that a fast start, whose turning points cross hundreds of
@@ -97,16 +100,18 @@ damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under th
 (at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
 moving start near the upright is still scanned forwards, and may be slow: after a passage near the
 saddle, the later arcs' energies and turning points change by 1e3 to 1e5 per radian of phi, sweeping
-many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 11,911
+many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 9,623
 extremals, 7 isolated to MIN_WIDTH; 33,040 before the energy bound, which isolates the extremals
-reaching a saddle coarser); so does a target many turns away on the plane (swing-up to branch 20 at kappa = 0.5:
-2e4 extremals). A fast start costs in the length of its extremals, not in their number, where kappa is
-small: swing-up from (0, 50), 1e3 extremals at kappa = 1 (T = 49), 5e3 of length 500 to 800 at
-kappa = 0.1 (T = 489). `time_limit` ends a scan with the best arrival so far
-(status "stopped", not proven optimal).
+reaching a saddle coarser); so does a target many turns away on the plane (swing-up to branch 20 at
+kappa = 0.5: 1.4e5 extremals, 94 isolated to MIN_WIDTH). A fast start costs in the length of its
+extremals more than in their number, where kappa is small: swing-up from (0, 50), 373 extremals at
+kappa = 1 (T = 49), 1,000 of length 500 to 800 at kappa = 0.1 (T = 489), 1,494 at kappa = 0.05
+(T = 976). `time_limit` ends a scan with the best arrival so far (status "stopped", not proven
+optimal).
 """
 
 import bisect
+import functools
 import heapq
 import itertools
 import math
@@ -892,39 +897,60 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
                 unresolved.append((end.phi, end.phi, closest))
         grid = [family.sample(phi, u0, horizon) for phi in np.linspace(lo + END_OFFSET, hi - END_OFFSET, SAMPLES + 1)]
         queue += [(0.0, next(order), u0, a, b) for a, b in zip(grid[:-1], grid[1:])]
-    while queue and not clock.tick(horizon, queue[0][2], queue[0][3].phi, family.count, len(brackets)):
-        _, _, u0, a, b = heapq.heappop(queue)
-        m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
-        split, closest, found, soonest = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
-        brackets += [(u0, f) for f in found]
-        for f in found:
-            arrive = min(arrive, max(floor, acceptance.add(*f[5])))
-        if arrive < RESCAN * accept:        # on, to the horizon of the acceptance reached
-            accept, horizon = arrive, arrive / (1 - HORIZON_BAND)
-        finest = min(finest, 0.5 * (b.phi - a.phi))
-        if split and b.phi - a.phi > 2 * MIN_WIDTH:
-            heapq.heappush(queue, (soonest, next(order), u0, a, m))
-            heapq.heappush(queue, (soonest, next(order), u0, m, b))
-        elif split and closest >= FAR:
-            singular.append((a.phi, b.phi, closest))
-        elif split:
-            unresolved.append((a.phi, b.phi, closest))
-    # every arrival solved to CHECK accuracy (its error: the change from SCAN), ranked; the best, those
-    # within TIE_WINDOW of it and the runner-up then to PRECISE (their error: the change from CHECK)
-    # (earliest first; once the time limit has passed, only until one is solved: the best so far)
-    solved = []
-    for u0, (lo, hi, label, branch, t_guess, (earliest, _)) in sorted(brackets, key=lambda b: b[1][5][0]):
-        if earliest > arrive:
-            continue                        # bracketed before the acceptance was lowered below it
-        if solved and clock.tick(horizon, u0, lo, family.count, len(brackets)):
-            unresolved.append((lo, hi, -1.0))   # the time limit passed: not solved, reported
-            continue
-        rough = _root(family, problem, u0, label, branch, lo, hi, t_guess, taylor.SCAN)
-        check = rough and _polish(family, problem, u0, label, branch, rough[0], lo, hi, t_guess, taylor.CHECK)
-        if check is None:
-            unresolved.append((lo, hi, -1.0))   # a bracket without a root: reported, never dropped
-        elif check[2][0] <= arrive:
-            solved.append((u0, lo, hi, label, branch, rough, check))
+    solved, bounds, first = [], [], arrive
+    while True:
+        while queue and not clock.tick(horizon, queue[0][2], queue[0][3].phi, family.count, len(brackets)):
+            _, _, u0, a, b = heapq.heappop(queue)
+            m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
+            split, closest, found, soonest = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
+            brackets += [(u0, f) for f in found]
+            for f in found:
+                bounds.append(f[5])
+                arrive = min(arrive, max(floor, acceptance.add(*f[5])))
+            if arrive < RESCAN * accept:        # on, to the horizon of the acceptance reached
+                accept, horizon = arrive, arrive / (1 - HORIZON_BAND)
+            finest = min(finest, 0.5 * (b.phi - a.phi))
+            if split and b.phi - a.phi > 2 * MIN_WIDTH:
+                heapq.heappush(queue, (soonest, next(order), u0, a, m))
+                heapq.heappush(queue, (soonest, next(order), u0, m, b))
+            elif split and closest >= FAR:
+                singular.append((a.phi, b.phi, closest))
+            elif split:
+                unresolved.append((a.phi, b.phi, closest))
+        # every arrival solved to CHECK accuracy (its error: the change from SCAN), ranked; the best, those
+        # within TIE_WINDOW of it and the runner-up then to PRECISE (their error: the change from CHECK)
+        # (earliest first; once the time limit has passed, only until one is solved: the best so far)
+        failed = []
+        for u0, (lo, hi, label, branch, t_guess, (earliest, latest)) in sorted(brackets, key=lambda b: b[1][5][0]):
+            if earliest > arrive:
+                continue                        # bracketed before the acceptance was lowered below it
+            if solved and clock.tick(horizon, u0, lo, family.count, len(brackets)):
+                unresolved.append((lo, hi, -1.0))   # the time limit passed: not solved, reported
+                continue
+            rough = _root(family, problem, u0, label, branch, lo, hi, t_guess, taylor.SCAN)
+            check = rough and _polish(family, problem, u0, label, branch, rough[0], lo, hi, t_guess, taylor.CHECK)
+            if check is None:
+                failed.append((u0, lo, hi, (earliest, latest)))
+            elif check[2][0] <= arrive:
+                solved.append((u0, lo, hi, label, branch, rough, check))
+        brackets = []
+        # a bracket without a root (a jump between its samples that their values and slopes did not show)
+        # is examined again, split, where the acceptance is the one of the others: it did not lower it;
+        # else, or at MIN_WIDTH, it is reported unresolved, never dropped
+        for bound in (f[3] for f in failed):
+            bounds.remove(bound)
+        kept = _Acceptance(margin)
+        again = failed and not clock.stopped and arrive == functools.reduce(
+            lambda accepted, bound: min(accepted, max(floor, kept.add(*bound))), bounds, first)
+        for u0, lo, hi, (earliest, _) in failed:
+            if again and hi - lo > 2 * MIN_WIDTH:
+                heapq.heappush(queue, (earliest, next(order), u0, family.sample(lo, u0, horizon),
+                                       family.sample(hi, u0, horizon)))
+            else:
+                unresolved.append((lo, hi, -1.0))
+        if not queue or not again:
+            break
+        acceptance = kept
     solved.sort(key=lambda s: s[-1][2][0])
     arrivals = []
     for i, (u0, lo, hi, label, branch, rough, check) in enumerate(solved):

@@ -2,7 +2,7 @@
 brute force of tests/test_search.py (a dense uniform grid of costate angles, every sign change solved)
 on random states and kappa, both kinds, both readings, one JSON line per state (resumable by seed).
 
-    python benchmarks/search_residual.py OUT.jsonl FIRST_SEED LAST_SEED
+    python benchmarks/search_residual.py OUT.jsonl FIRST_SEED END_SEED      (seeds FIRST_SEED to END_SEED - 1)
     python benchmarks/search_residual.py --summary FILE.jsonl...
 
 Shards are seed ranges (run them in parallel, under nice, each into its own file); --summary counts

@@ -2,7 +2,7 @@
 extremals integrated backwards in time from the target (`ocp.synthesis.field`), on random cells of
 random maps. One JSON line per cell (resumable by map seed).
 
-    python benchmarks/search_vs_maps.py OUT.jsonl FIRST_MAP LAST_MAP [--cells K]
+    python benchmarks/search_vs_maps.py OUT.jsonl FIRST_MAP END_MAP [--cells K]    (maps FIRST_MAP to END_MAP - 1)
     python benchmarks/search_vs_maps.py --summary FILE.jsonl...
 
 Map seed s (`map_case`): the kind, the reading (the circle, or the plane with branch 0 pinned),

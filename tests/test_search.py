@@ -188,6 +188,29 @@ def test_a_turning_point_after_the_acceptance_where_seen_is_after_it_where_omega
     assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
 
 
+def test_a_label_absent_at_both_ends_of_a_settled_half_leaves_the_later_labels_to_be_examined():
+    """Review of 5c1e2b7 (its construction): half [0, 0.1] is settled (omega at t = 8 has no zero
+    there, a and m see J = (0, 0) and K = (2, 0) before t = 8). L = (1, 0), seen at b only, is absent
+    on that half: no turning point of arc 1 there, which says nothing of K, whose angle crosses pi
+    on it at t = 7.0 to 7.9, before the acceptance 7.4 at a. Taking L's absence for "every later label
+    after t = 8" skipped K and lost the arrival; it is bracketed."""
+    def sample(phi, events, omega):
+        s = S._Sample.__new__(S._Sample)
+        s.phi, s.u0, s.duration, s.end = phi, 1, 15.0, None
+        s.events = {label: (t, theta) for label, (t, theta, _, _) in events.items()}
+        s.slopes = {label: (dt, dtheta) for label, (_, _, dt, dtheta) in events.items()}
+        s.ends, s.energies, s.switch_times, s.switch_slopes = {8.0: omega}, {}, [], []
+        return s
+
+    J, L, K = (0, 0), (1, 0), (2, 0)           # (t, theta, dt/dphi, dtheta/dphi)
+    a = sample(0.0, {J: (6.9, 1.0, 9.0, 0.0), K: (7.0, 3.1, 9.0, 2.0)}, (0.6, -0.5))
+    m = sample(0.1, {J: (7.8, 1.0, 9.0, 0.0), K: (7.9, 3.3, 9.0, 2.0)}, (0.35, -4.5))
+    b = sample(0.2, {J: (8.7, 1.0, 9.0, 0.0), L: (8.75, 2.0, 0.0, 0.0), K: (8.8, 3.5, 9.0, 2.0)}, (-0.3, -8.5))
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
+    _, _, found, _ = S._examine(problem, None, a, m, b, 8.0, 15.0, 7.4)
+    assert [(lo, hi, label) for lo, hi, label, *_ in found] == [(0.0, 0.1, K)]
+
+
 @pytest.mark.parametrize("energy, switches, split", [
     (0.0, [[(12.0, 0.0)]] * 3, False),                                 # arc 0 runs through t = 8: resolved
     (1 - math.pi, [[(12.0, 0.0)]] * 3, True),                          # its energy at the target's level

@@ -42,8 +42,8 @@ ones, a turning point crossing the horizon, the rules for those below decide: ne
 reaches a saddle, omega(t_a, .) is too steep for the bound, and that check alone would bisect to
 MIN_WIDTH, 4 times the extremals). The same bound settles the later labels on a half: where it
 excludes a zero of omega(t_a, .) there (or shows it monotone) and the half's ends see the same
-turning points before t_a, every phi of the half sees those, so a label after t_a (or unseen) at both
-ends is after it on the whole half, and so is every later one. This resolves, at the spacing the
+turning points before t_a, every phi of the half sees those, so a label not among them is after t_a,
+or absent, on the whole half (that label only: one absent says nothing of the later ones). This resolves, at the spacing the
 bound on omega(t_a, .) needs, what the rules for a label seen at some samples only would bisect far
 finer: the turning points after an arc that runs into a saddle past t_a, whose switch and turning
 points come in from beyond the horizon (swing-up from (0, 50) at kappa = 0.1: 4,520 extremals and
@@ -610,7 +610,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     EXTEND), a half where it may have two zeros may hide one no sample sees, and is split unless the
     arc running then runs through the interval and its energy excludes every target; a half where it
     has no zero (or one, monotone) and whose ends see the same turning points before that time
-    (`settled`) has those only: a label not among them, and every later one, is after it there. A
+    (`settled`) has those only: a label not among them is after it, or absent, there. A
     label seen by some samples only splits the interval unless it is late and does not dip (`_dips`), or its arc's
     energy excludes every target (`_energy_excludes`), as it does for a label whose angle the bound
     leaves unresolved. `soonest`: the earliest time of what forced a split (the scan examines the
@@ -647,12 +647,15 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         if not (_runs_through(a, m, b, arc, end, h) and _energy_excludes(problem, a, m, b, arc, h)):
             split, soonest = True, accept
     # labels in time order along an extremal, (arc, index in arc): once a label's turning point is
-    # after the acceptance on a whole half, every later one is too (at each phi, later in time)
+    # after the acceptance on a whole half, every later one is too (at each phi, later in time; a label
+    # absent there says nothing of the later ones: `after` is this label's only)
     late = [False, False]
     for label in sorted(seen[0] | seen[1] | seen[2]):
-        late = [late[half] or (settled[half] and label not in before[half]) for half in (0, 1)]
         if late[0] and late[1]:
             break
+        after = [settled[half] and label not in before[half] for half in (0, 1)]
+        if (late[0] or after[0]) and (late[1] or after[1]):
+            continue
         values = [s.events.get(label) for s in (a, m, b)]
         if None in values:
             for s, v in zip((a, m, b), values):
@@ -674,11 +677,11 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         reach_t = None                      # how far the time may dip below its ends' on each half
         if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
             reach_t = _reaches(ta, tm, tb, dta, dtm, dtb, h)
-            early = (not (late[0] or min(ta, tm) - reach_t[0] > arrive),
-                     not (late[1] or min(tm, tb) - reach_t[1] > arrive))
-            late = [not e for e in early]
-            if not (early[0] or early[1]):  # the turning point's time stays after the acceptance
-                continue
+            late = [late[0] or min(ta, tm) - reach_t[0] > arrive, late[1] or min(tm, tb) - reach_t[1] > arrive]
+            early = (not late[0], not late[1])
+        early = (early[0] and not after[0], early[1] and not after[1])
+        if not (early[0] or early[1]):      # the turning point's time stays after the acceptance
+            continue
         bounds = _curvatures(tha, thm, thb, dtha, dthm, dthb, h)
         found, resolved = [], math.isfinite(bounds[0] + bounds[1])
         reach = CURVATURE * max(bounds) * h * h / 8
@@ -924,6 +927,8 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
         for u0, (lo, hi, label, branch, t_guess, (earliest, latest)) in sorted(brackets, key=lambda b: b[1][5][0]):
             if earliest > arrive:
                 continue                        # bracketed before the acceptance was lowered below it
+            if any(s[:1] + s[3:5] == (u0, label, branch) and s[1] <= lo and hi <= s[2] for s in solved):
+                continue                        # found again where a failed bracket's interval was examined again
             if solved and clock.tick(horizon, u0, lo, family.count, len(brackets)):
                 unresolved.append((lo, hi, -1.0))   # the time limit passed: not solved, reported
                 continue
@@ -942,16 +947,20 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
         kept = _Acceptance(margin)
         again = failed and not clock.stopped and arrive == functools.reduce(
             lambda accepted, bound: min(accepted, max(floor, kept.add(*bound))), bounds, first)
+        pushed = set()
         for u0, lo, hi, (earliest, _) in failed:
             if again and hi - lo > 2 * MIN_WIDTH:
-                heapq.heappush(queue, (earliest, next(order), u0, family.sample(lo, u0, horizon),
-                                       family.sample(hi, u0, horizon)))
+                if (u0, lo, hi) not in pushed:      # two brackets of one interval: examined once
+                    pushed.add((u0, lo, hi))
+                    heapq.heappush(queue, (earliest, next(order), u0, family.sample(lo, u0, horizon),
+                                           family.sample(hi, u0, horizon)))
             else:
                 unresolved.append((lo, hi, -1.0))
         if not queue or not again:
             break
         acceptance = kept
-    solved.sort(key=lambda s: s[-1][2][0])
+    # only those before the acceptance reached (an earlier round compared its own with a higher one)
+    solved = sorted((s for s in solved if s[-1][2][0] <= arrive), key=lambda s: s[-1][2][0])
     arrivals = []
     for i, (u0, lo, hi, label, branch, rough, check) in enumerate(solved):
         important = check[2][0] <= solved[0][-1][2][0] * (1 + TIE_WINDOW) or \

@@ -927,8 +927,8 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
         for u0, (lo, hi, label, branch, t_guess, (earliest, latest)) in sorted(brackets, key=lambda b: b[1][5][0]):
             if earliest > arrive:
                 continue                        # bracketed before the acceptance was lowered below it
-            if any(s[:1] + s[3:5] == (u0, label, branch) and s[1] <= lo and hi <= s[2] for s in solved):
-                continue                        # found again where a failed bracket's interval was examined again
+            if any(s[:1] + s[3:5] == (u0, label, branch) and lo <= s[-1][0] <= hi for s in solved):
+                continue                        # its root solved (found again where a failed bracket's was examined again)
             if solved and clock.tick(horizon, u0, lo, family.count, len(brackets)):
                 unresolved.append((lo, hi, -1.0))   # the time limit passed: not solved, reported
                 continue
@@ -959,8 +959,9 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
         if not queue or not again:
             break
         acceptance = kept
-    # only those before the acceptance reached (an earlier round compared its own with a higher one)
-    solved = sorted((s for s in solved if s[-1][2][0] <= arrive), key=lambda s: s[-1][2][0])
+    # a complete scan reports the arrivals before the acceptance it reached (an earlier round compared its
+    # own with a higher one); one stopped or left with a bracket unsolved keeps every arrival solved
+    solved = sorted((s for s in solved if clock.stopped or failed or s[-1][2][0] <= arrive), key=lambda s: s[-1][2][0])
     arrivals = []
     for i, (u0, lo, hi, label, branch, rough, check) in enumerate(solved):
         important = check[2][0] <= solved[0][-1][2][0] * (1 + TIE_WINDOW) or \

@@ -129,14 +129,18 @@ def test_an_extremal_extended_from_where_it_ended_has_the_turning_points_of_one_
 
 
 def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0), duration=10.0, energies=None,
-                switches=()):
+                switches=(), events=None):
     """A _Sample as the scan sees it: one turning point `label` (none if theta is None) at (t, theta)
-    with slopes (dt/dphi, dtheta/dphi) = (t[1], slope), (omega, domega/dphi) = `omega` at the
-    acceptance time of a scan to horizon 10, the arcs' `energies` {arc: (E, dE/dphi)} (none known
-    by default) and the `switches` (t, dt/dphi)."""
+    with slopes (dt/dphi, dtheta/dphi) = (t[1], slope), or the turning points `events` {label: (t,
+    theta, dt/dphi, dtheta/dphi)}, (omega, domega/dphi) = `omega` at the acceptance time of a scan to
+    horizon 10, the arcs' `energies` {arc: (E, dE/dphi)} (none known by default) and the `switches`
+    (t, dt/dphi)."""
+    if events is None:
+        events = {} if theta is None else {label: (t[0], theta, t[1], slope)}
     sample = S._Sample.__new__(S._Sample)
     sample.phi, sample.u0, sample.duration, sample.end = phi, 1, duration, None
-    sample.events, sample.slopes = ({}, {}) if theta is None else ({label: (t[0], theta)}, {label: (t[1], slope)})
+    sample.events = {label: (time, angle) for label, (time, angle, _, _) in events.items()}
+    sample.slopes = {label: (dt, dtheta) for label, (_, _, dt, dtheta) in events.items()}
     sample.ends = {10.0 * (1 - S.HORIZON_BAND): omega}
     sample.energies = energies or {}
     sample.switch_times, sample.switch_slopes = [t for t, _ in switches], [d for _, d in switches]
@@ -195,12 +199,7 @@ def test_a_label_absent_at_both_ends_of_a_settled_half_leaves_the_later_labels_t
     on it at t = 7.0 to 7.9, before the acceptance 7.4 at a. Taking L's absence for "every later label
     after t = 8" skipped K and lost the arrival; it is bracketed."""
     def sample(phi, events, omega):
-        s = S._Sample.__new__(S._Sample)
-        s.phi, s.u0, s.duration, s.end = phi, 1, 15.0, None
-        s.events = {label: (t, theta) for label, (t, theta, _, _) in events.items()}
-        s.slopes = {label: (dt, dtheta) for label, (_, _, dt, dtheta) in events.items()}
-        s.ends, s.energies, s.switch_times, s.switch_slopes = {8.0: omega}, {}, [], []
-        return s
+        return fake_sample(phi, None, None, omega, duration=15.0, events=events)
 
     J, L, K = (0, 0), (1, 0), (2, 0)           # (t, theta, dt/dphi, dtheta/dphi)
     a = sample(0.0, {J: (6.9, 1.0, 9.0, 0.0), K: (7.0, 3.1, 9.0, 2.0)}, (0.6, -0.5))

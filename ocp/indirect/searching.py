@@ -111,12 +111,12 @@ optimal).
 """
 
 import bisect
-import functools
 import heapq
 import itertools
 import math
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -780,7 +780,21 @@ def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=No
     _, phi, switches, event = best
     if abs(event[1] - target) > abs(event[6]) * max(hi - lo, NEWTON_FLOOR * max(1.0, abs(phi))):
         return None
-    return phi, switches, event, family.steps_per_time * event[0]
+    return _Root(phi, switches, event, family.steps_per_time * event[0])
+
+
+class _Root(NamedTuple):
+    """An extremal solved by `_root`: its costate angle, its switches' rows (t, theta, omega, ...),
+    the turning point's row of `_Sample.events` (t, theta, arc, index, ...), the Taylor steps to it."""
+
+    phi: float
+    switches: np.ndarray
+    event: np.ndarray
+    steps: float
+
+    @property
+    def T(self):
+        return float(self.event[0])
 
 
 def _hermite_root(lo, hi, ga, gb, da, db):
@@ -803,11 +817,6 @@ def _hermite_root(lo, hi, ga, gb, da, db):
     return lo + x * h
 
 
-def _polish(family, problem, u0, label, branch, near, lo, hi, t_guess, accuracy):
-    """_root at `accuracy` from `near` (a root at another accuracy), in the bracket [lo, hi]."""
-    return _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near)
-
-
 def _arrival(x0, kappa, u0, branch, label, solution, error_of, solved, original=None):
     """The Extremal of a solved turning point, its errors SAFETY times the largest difference to the
     solutions in `error_of` (the same arrival at other accuracies), plus the rounding floor. With
@@ -817,8 +826,9 @@ def _arrival(x0, kappa, u0, branch, label, solution, error_of, solved, original=
     phi, switches, event, steps = solution
     arc = label[0]
     times = tuple(float(t) for t in switches[:arc, 0])
-    T_spread = max(abs(event[0] - other[2][0]) for other in error_of)
-    times_spread = max((abs(a - float(b)) for other in error_of for a, b in zip(times, other[1][:arc, 0])), default=0.0)
+    T_spread = max(abs(event[0] - other.event[0]) for other in error_of)
+    times_spread = max((abs(a - float(b)) for other in error_of for a, b in zip(times, other.switches[:arc, 0])),
+                       default=0.0)
     scale = x0[1] * math.cos(phi) + (kappa * u0 - math.sin(x0[0])) * math.sin(phi)
     # rounding of the target state moves T by p(T) . dx (H = 0 fixes p(T): p2(T) (kappa u_T - sin theta_T) = 1)
     u_T = u0 * (-1) ** arc
@@ -863,20 +873,51 @@ class _Acceptance:
     least latest bound (the best time T* <= B), (1 + margin) B, which every arrival within margin of
     the best precedes, and for margin <= MARGIN (the runner-up only) also the least latest bound of
     an arrival whose earliest is after B (1 + TIE_WINDOW): no tie of the best, so the runner-up
-    precedes it. Kept as brackets are added: B only falls, so a bracket once after B (1 + TIE_WINDOW)
-    stays so, and only those that may tie the best are held to be looked at again."""
+    precedes it; `value`, never above `start` nor below `floor`. Kept as brackets are added: B only
+    falls, so a bracket once after B (1 + TIE_WINDOW) stays so, and only those that may tie the best
+    are held to be looked at again."""
 
-    def __init__(self, margin):
-        self.margin, self.best, self.later, self.ties = margin, math.inf, math.inf, []
+    def __init__(self, margin, start, floor):
+        self.margin, self.start, self.floor, self.value = margin, start, floor, start
+        self.best, self.later, self.ties, self.bounds = math.inf, math.inf, [], []
 
-    def add(self, earliest, latest):
-        """The acceptance once the bracket with these time bounds is added."""
+    def add(self, bound):
+        """Lowers `value` to the acceptance once the bracket with these time bounds is added."""
+        earliest, latest = bound
+        self.bounds.append(bound)
         self.best = min(self.best, latest)
-        self.ties.append((earliest, latest))
+        self.ties.append(bound)
         tie = self.best * (1 + TIE_WINDOW)
         self.later = min([self.later] + [late for early, late in self.ties if early > tie])
         self.ties = [(early, late) for early, late in self.ties if early <= tie]
-        return min((1 + self.margin) * self.best, self.later if self.margin <= MARGIN else math.inf)
+        allowed = min((1 + self.margin) * self.best, self.later if self.margin <= MARGIN else math.inf)
+        self.value = min(self.value, max(self.floor, allowed))
+
+    def without(self, bounds):
+        """The acceptance of the brackets added, each of `bounds` once less."""
+        kept, others = _Acceptance(self.margin, self.start, self.floor), list(self.bounds)
+        for bound in bounds:
+            others.remove(bound)
+        for bound in others:
+            kept.add(bound)
+        return kept
+
+
+class _Solved(NamedTuple):
+    """A bracket's root: the bracket (u0, lo, hi), the turning point `label` reaching the target of
+    `branch`, solved at SCAN (`rough`) and CHECK (`check`) accuracy (each a _Root)."""
+
+    u0: float
+    lo: float
+    hi: float
+    label: tuple
+    branch: int
+    rough: "_Root"
+    check: "_Root"
+
+    @property
+    def T(self):
+        return self.check.T
 
 
 def scan(problem, horizon, original=None, clock=None, halves=2, family=None, margin=MARGIN, floor=0.0):
@@ -892,7 +933,7 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
     accept = arrive = horizon * (1 - HORIZON_BAND)
     intervals = admissible_intervals(problem.x0, problem.kappa)[:halves]
     brackets, unresolved, singular, finest = [], [], [], math.inf
-    acceptance, queue, order = _Acceptance(margin), [], itertools.count()
+    acceptance, queue, order = _Acceptance(margin, arrive, floor), [], itertools.count()
     for lo, hi, u0 in intervals:
         for end in (family.sample(lo, u0, horizon), family.sample(hi, u0, horizon)):
             closest = min((_distance(problem, th) for t, th in end.events.values() if t <= accept), default=math.inf)
@@ -900,7 +941,7 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
                 unresolved.append((end.phi, end.phi, closest))
         grid = [family.sample(phi, u0, horizon) for phi in np.linspace(lo + END_OFFSET, hi - END_OFFSET, SAMPLES + 1)]
         queue += [(0.0, next(order), u0, a, b) for a, b in zip(grid[:-1], grid[1:])]
-    solved, bounds, first = [], [], arrive
+    solved = []
     while True:
         while queue and not clock.tick(horizon, queue[0][2], queue[0][3].phi, family.count, len(brackets)):
             _, _, u0, a, b = heapq.heappop(queue)
@@ -908,8 +949,8 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
             split, closest, found, soonest = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
             brackets += [(u0, f) for f in found]
             for f in found:
-                bounds.append(f[5])
-                arrive = min(arrive, max(floor, acceptance.add(*f[5])))
+                acceptance.add(f[5])
+            arrive = acceptance.value
             if arrive < RESCAN * accept:        # on, to the horizon of the acceptance reached
                 accept, horizon = arrive, arrive / (1 - HORIZON_BAND)
             finest = min(finest, 0.5 * (b.phi - a.phi))
@@ -927,26 +968,23 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
         for u0, (lo, hi, label, branch, t_guess, (earliest, latest)) in sorted(brackets, key=lambda b: b[1][5][0]):
             if earliest > arrive:
                 continue                        # bracketed before the acceptance was lowered below it
-            if any(s[:1] + s[3:5] == (u0, label, branch) and lo <= s[-1][0] <= hi for s in solved):
+            if any((s.u0, s.label, s.branch) == (u0, label, branch) and lo <= s.check.phi <= hi for s in solved):
                 continue                        # its root solved (found again where a failed bracket's was examined again)
             if solved and clock.tick(horizon, u0, lo, family.count, len(brackets)):
                 unresolved.append((lo, hi, -1.0))   # the time limit passed: not solved, reported
                 continue
             rough = _root(family, problem, u0, label, branch, lo, hi, t_guess, taylor.SCAN)
-            check = rough and _polish(family, problem, u0, label, branch, rough[0], lo, hi, t_guess, taylor.CHECK)
+            check = rough and _root(family, problem, u0, label, branch, lo, hi, t_guess, taylor.CHECK, rough.phi)
             if check is None:
                 failed.append((u0, lo, hi, (earliest, latest)))
-            elif check[2][0] <= arrive:
-                solved.append((u0, lo, hi, label, branch, rough, check))
+            elif check.T <= arrive:
+                solved.append(_Solved(u0, lo, hi, label, branch, rough, check))
         brackets = []
         # a bracket without a root (a jump between its samples that their values and slopes did not show)
         # is examined again, split, where the acceptance is the one of the others: it did not lower it;
         # else, or at MIN_WIDTH, it is reported unresolved, never dropped
-        for bound in (f[3] for f in failed):
-            bounds.remove(bound)
-        kept = _Acceptance(margin)
-        again = failed and not clock.stopped and arrive == functools.reduce(
-            lambda accepted, bound: min(accepted, max(floor, kept.add(*bound))), bounds, first)
+        kept = acceptance.without(f[3] for f in failed)
+        again = failed and not clock.stopped and arrive == kept.value
         pushed = set()
         for u0, lo, hi, (earliest, _) in failed:
             if again and hi - lo > 2 * MIN_WIDTH:
@@ -961,15 +999,14 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
         acceptance = kept
     # a complete scan reports the arrivals before the acceptance it reached (an earlier round compared its
     # own with a higher one); one stopped or left with a bracket unsolved keeps every arrival solved
-    solved = sorted((s for s in solved if clock.stopped or failed or s[-1][2][0] <= arrive), key=lambda s: s[-1][2][0])
+    solved = sorted((s for s in solved if clock.stopped or failed or s.T <= arrive), key=lambda s: s.T)
     arrivals = []
     for i, (u0, lo, hi, label, branch, rough, check) in enumerate(solved):
-        important = check[2][0] <= solved[0][-1][2][0] * (1 + TIE_WINDOW) or \
-            i == next((j for j, s in enumerate(solved) if s[-1][2][0] > solved[0][-1][2][0] * (1 + TIE_WINDOW)), -1)
-        precise = important and _polish(family, problem, u0, label, branch, check[0], lo, hi, check[2][0],
-                                        taylor.PRECISE)
-        alternative = precise and _polish(family, problem, u0, label, branch, precise[0], lo, hi, check[2][0],
-                                          taylor.PRECISE_ALT)
+        important = check.T <= solved[0].T * (1 + TIE_WINDOW) or \
+            i == next((j for j, s in enumerate(solved) if s.T > solved[0].T * (1 + TIE_WINDOW)), -1)
+        precise = important and _root(family, problem, u0, label, branch, lo, hi, check.T, taylor.PRECISE, check.phi)
+        alternative = precise and _root(family, problem, u0, label, branch, lo, hi, check.T, taylor.PRECISE_ALT,
+                                        precise.phi)
         if precise and alternative:
             arrivals.append(_arrival(family.x0, family.kappa, u0, branch, label, precise, (check, alternative),
                                      "precise", original))

@@ -53,6 +53,7 @@ class SolveStatus(_Named):
     NOT_VERIFIED = -2
     DIRECT_FAILED = -3
     STOPPED_EMPTY = -4
+    UNRESOLVED_EMPTY = -5
 
 
 STATUS_MESSAGES = {
@@ -71,6 +72,8 @@ STATUS_MESSAGES = {
     SolveStatus.NOT_VERIFIED: "the best extremal misses the target when re-simulated independently",
     SolveStatus.DIRECT_FAILED: "the direct transcription found no verified answer (and no search was asked for)",
     SolveStatus.STOPPED_EMPTY: "stopped at the time limit before any extremal reaching the target set was found",
+    SolveStatus.UNRESOLVED_EMPTY: "no extremal reaching the target set was found, but the scan left intervals "
+                                  "unresolved, so that none reaches it before the largest horizon is not proved",
 }
 
 

@@ -183,7 +183,8 @@ def solve(problem, method=None, solver="ipopt", options=None, guess=None, miss_t
     begun = time.perf_counter()
     miss = certificate = crosscheck = None
     if answer is None:
-        status = SolveStatus.STOPPED_EMPTY if found.coverage.stopped else SolveStatus.NO_EXTREMAL
+        status = SolveStatus.STOPPED_EMPTY if found.coverage.stopped else \
+            SolveStatus.NO_EXTREMAL if found.coverage.complete else SolveStatus.UNRESOLVED_EMPTY
     else:
         miss = 0.0
         if answer.signs:

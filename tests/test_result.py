@@ -41,6 +41,10 @@ def failures(with_search):
         "stopped empty": replace(with_search, status=SolveStatus.STOPPED_EMPTY, best=None, answer=None, ties=(),
                                  runner_up=None, extremals=(), certificate=None, crosscheck=None, resim_miss=None,
                                  direct_class=None, coverage=replace(with_search.coverage, stopped=True)),
+        "unresolved empty": replace(with_search, status=SolveStatus.UNRESOLVED_EMPTY, best=None, answer=None, ties=(),
+                                    runner_up=None, extremals=(), certificate=None, crosscheck=None, resim_miss=None,
+                                    direct_class=None, coverage=replace(with_search.coverage, unresolved=((1.0, 1.1, -1.0),),
+                                                                        n_unresolved=1)),
     }
 
 
@@ -50,7 +54,7 @@ def test_every_failure_status_is_covered(with_search):
 
 
 @pytest.mark.parametrize("name", ["direct misses", "direct not converged", "direct solver error", "not verified",
-                                  "no extremal", "stopped empty"])
+                                  "no extremal", "stopped empty", "unresolved empty"])
 def test_a_failure_says_so_first_and_claims_no_time(with_search, name):
     sol = failures(with_search)[name]
     assert not sol.success and sol.T_error is None and sol.switch_time_error is None

@@ -8,6 +8,7 @@ search must find its least time, and every arrival it finds before the search's 
 
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -363,6 +364,15 @@ def test_the_horizon_grows_to_reach_times_the_estimate_not_only_to_the_fixed_lim
     assert S.search(problem).status == "optimal"
     monkeypatch.setattr(S, "REACH", 0.0)
     assert S.search(problem).status == "none"
+
+
+def test_no_arrival_with_intervals_unresolved_is_not_called_none():
+    """"none" claims that no extremal reaches the target before the horizon: a scan that left an
+    interval unresolved and found none says that it is not proved."""
+    coverage = S.Coverage(10.0, (), 40, 1e-10, ((1.0, 1.0 + 1e-10, -1.0),), (), 0.1, n_unresolved=1)
+    assert S.Search((), coverage).status == "unresolved, none"
+    assert "not proved" in S.Search((), coverage).message
+    assert S.Search((), replace(coverage, unresolved=(), n_unresolved=0)).status == "none"
 
 
 def test_the_plane_brackets_only_its_pinned_branch_however_many_turns_a_label_sweeps():

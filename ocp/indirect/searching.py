@@ -353,7 +353,7 @@ class Search:
             return "optimal" if self.arrivals else "none"
         if self.coverage.stopped:
             return "stopped" if self.arrivals else "stopped, none"
-        return "best found" if self.arrivals else "none"
+        return "best found" if self.arrivals else "unresolved, none"
 
     @property
     def message(self):
@@ -366,6 +366,8 @@ STATUS_MESSAGES = {
     "stopped": "the time limit ended the scan: the best arrival found so far, not proven optimal",
     "stopped, none": "the time limit ended the scan before any arrival was found",
     "none": "no extremal reaches the target before the horizon",
+    "unresolved, none": "no arrival found; intervals left unresolved, so that none reaches the target before the "
+                        "horizon is not proved",
 }
 
 

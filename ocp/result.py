@@ -192,7 +192,8 @@ class Solution:
                    switch times and states, branch, p(0), error estimates), None without a search
     ties           other extremals with the same T within their accuracy (mirror images, other
                    branches): every optimal control
-    runner_up      the fastest extremal slower than the optimum (None if none before the horizon)
+    runner_up      the fastest extremal slower than the optimum (None if none before the horizon, or if
+                   the scan for it was cut at its budget: `notes`)
     extremals      every extremal the search solved, fastest first
     coverage       what the scan covered (`ocp.indirect.Coverage`)
     resim_miss     the distance from the target in (theta, omega) of the answer's control

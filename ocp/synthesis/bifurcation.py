@@ -75,9 +75,10 @@ def switch_point(kind, kappa, psi, n, accuracy=taylor.PRECISE, s_max=S_MAX):
 
 def others(kind, kappa, reading, point):
     """The extremals from point.x other than the field's own (same final arcs and branch 0, and
-    the same time to 1e-8): a list of (T, signs, branch), fastest first."""
+    the same time to 1e-8): a list of (T, signs, branch), fastest first (the runner-up's scan never
+    cut: the gap needs the fastest other however far)."""
     problem = Problem(kind, kappa, point.x, None if reading == "circle" else 0)
-    found = search(problem, horizon=1.3 * point.s)
+    found = search(problem, horizon=1.3 * point.s, runner_up_budget=math.inf)
     own = lambda a: a.branch == 0 and abs(a.T - point.s) <= 1e-8 * max(1.0, point.s) and \
         tuple(a.signs[-point.n:]) == point.signs
     return [(a.T, tuple(a.signs), a.branch) for a in found.arrivals if not own(a)]

@@ -134,15 +134,16 @@ def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0),
     """A _Sample as the scan sees it: one turning point `label` (none if theta is None) at (t, theta)
     with slopes (dt/dphi, dtheta/dphi) = (t[1], slope), or the turning points `events` {label: (t,
     theta, dt/dphi, dtheta/dphi)}, (omega, domega/dphi) = `omega` at the acceptance time of a scan to
-    horizon 10, the arcs' `energies` {arc: (E, dE/dphi)} (none known by default) and the `switches`
-    (t, dt/dphi)."""
+    horizon 10 (with e = omega^2 / 2 - cos(theta) and its slope: `omega[2:]`, (0, 0) if not given, which
+    says nothing of omega), the arcs' `energies` {arc: (E, dE/dphi)} (none known by default) and the
+    `switches` (t, dt/dphi)."""
     if events is None:
         events = {} if theta is None else {label: (t[0], theta, t[1], slope)}
     sample = S._Sample.__new__(S._Sample)
     sample.phi, sample.u0, sample.duration, sample.end = phi, 1, duration, None
     sample.events = {label: (time, angle) for label, (time, angle, _, _) in events.items()}
     sample.slopes = {label: (dt, dtheta) for label, (_, _, dt, dtheta) in events.items()}
-    sample.ends = {10.0 * (1 - S.HORIZON_BAND): omega}
+    sample.ends = {10.0 * (1 - S.HORIZON_BAND): (*omega[:2], *(omega[2:] or (0.0, 0.0)))}
     sample.energies = energies or {}
     sample.switch_times, sample.switch_slopes = [t for t, _ in switches], [d for _, d in switches]
     return sample
@@ -191,6 +192,46 @@ def test_a_turning_point_after_the_acceptance_where_seen_is_after_it_where_omega
     a, m, b = (fake_sample(phi, th, 1.0, (w, s), t=(t, 0.0), duration=15.0)
                for phi, th, t, w, s in zip((0.0, 0.1, 0.2), (None, None, 3.0), (0.0, 0.0, t_b), (0.5, 0.4, 0.5), slopes))
     assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
+
+
+@pytest.mark.parametrize("energies, slopes, split", [
+    ((3.0, 3.0, 3.0), (0.0, 0.0, 0.0), False),      # e(8, .) > 1: a rotation at t = 8, omega has no zero
+    ((1.2, 1.1, 1.2), (-10.0, 0.0, 10.0), True),    # e may dip below 1 between the samples
+    ((3.0, 0.9, 3.0), (0.0, 0.0, 0.0), True),       # e < 1 at m
+])
+def test_omega_at_the_acceptance_has_no_zero_where_the_energy_then_is_above_the_upright(energies, slopes, split):
+    """The construction above (a turning point seen at b only, at t = 8.5, after the acceptance t = 8),
+    with omega(8, .) that may dip through zero (0.5, 0.4, 0.5 with slopes -10, 0, 10: split by
+    itself): where e = omega^2 / 2 - cos(theta) at t = 8 is bounded above 1 by its values and slopes,
+    omega^2 / 2 > 1 + cos(theta) >= 0 there, the pendulum rotates at t = 8 for every phi between, no
+    turning point crosses t = 8, and the interval is resolved; where the bound on e reaches 1, it is split."""
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
+    a, m, b = (fake_sample(phi, th, 1.0, (w, s, e, de), t=(t, 0.0), duration=15.0)
+               for phi, th, t, w, s, e, de in zip((0.0, 0.1, 0.2), (None, None, 3.0), (0.0, 0.0, 8.5), (0.5, 0.4, 0.5),
+                                                  (-10.0, 0.0, 10.0), energies, slopes))
+    assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
+
+
+@pytest.mark.parametrize("x0, kappa, phi, u0", [((0.0, 5.0), 0.1, 0.6, 1), ((2.5, -0.3), 0.3, 2.0, 1)])
+def test_the_recorded_energy_at_the_acceptance_is_its_definition_and_its_slope_the_difference_quotient(x0, kappa, phi, u0):
+    """_Sample.ends at a scan's acceptance (integrated in one run to the horizon 30): omega and e =
+    omega^2 / 2 - cos(theta) against an integration to that time alone (its final state), their slopes
+    against central differences in phi."""
+    family = S._Family(x0, kappa)
+    accept = 30.0 * (1 - S.HORIZON_BAND)
+    omega, domega, e, de = S._Sample(family, phi, u0, 30.0).ends[accept]
+
+    def state(at):
+        _, _, _, _, (y, _, _), _ = family.run(at, u0, accept, taylor.SCAN)
+        return float(y[0]), float(y[1])
+
+    theta, w = state(phi)
+    assert (omega, e) == pytest.approx((w, 0.5 * w * w - math.cos(theta)), rel=1e-7, abs=1e-7)
+    h = 1e-6
+    (t1, w1), (t0, w0) = state(phi + h), state(phi - h)
+    energy = lambda th, om: 0.5 * om * om - math.cos(th)
+    assert domega == pytest.approx((w1 - w0) / (2 * h), rel=1e-4, abs=1e-5)
+    assert de == pytest.approx((energy(t1, w1) - energy(t0, w0)) / (2 * h), rel=1e-4, abs=1e-5)
 
 
 def test_a_label_absent_at_both_ends_of_a_settled_half_leaves_the_later_labels_to_be_examined():

@@ -37,7 +37,9 @@ in from beyond the horizon) is caught by the same bound on omega(t_a, phi), inte
 its slope at each sample: the turning points before t_a change only where one crosses t_a (zeros of
 omega are transversal inside an arc and never at a switch, p1 omega = 1), a zero of omega(t_a, .),
 so where a, m, b see the same turning points, a half on which the bound excludes a zero, or shows
-omega(t_a, .) monotone (one crossing, seen by the samples), hides none (where they see different
+omega(t_a, .) monotone (one crossing, seen by the samples), or bounds e(t_a, .) = omega^2 / 2 -
+cos(theta) above 1 (a rotation, omega^2 / 2 > 1 + cos(theta) >= 0: where the family rotates fast,
+omega(t_a, .) has the rotation's phase and e, smooth, has not), hides none (where they see different
 ones, a turning point crossing the horizon, the rules for those below decide: near an extremal that
 reaches a saddle, omega(t_a, .) is too steep for the bound, and that check alone would bisect to
 MIN_WIDTH, 4 times the extremals). The same bound settles the later labels on a half: where it
@@ -47,7 +49,9 @@ or absent, on the whole half (that label only: one absent says nothing of the la
 bound on omega(t_a, .) needs, what the rules for a label seen at some samples only would bisect far
 finer: the turning points after an arc that runs into a saddle past t_a, whose switch and turning
 points come in from beyond the horizon (swing-up from (0, 50) at kappa = 0.1: 4,520 extremals and
-42 isolated to MIN_WIDTH before, 1,000 and none after). The turning points of one arc are also bounded together, by
+42 isolated to MIN_WIDTH before, 1,000 and none after; 690 with the bound on e, which settles the
+halves still rotating at t_a, whose later turning points' times the bound on t_label leaves free
+to dip before it). The turning points of one arc are also bounded together, by
 its energy (`_energy_excludes`): on arc j (u = u_j) E_j = omega^2 / 2 - cos(theta) - kappa u_j theta
 is constant, so its turning points lie where V_j(theta) = -cos(theta) - kappa u_j theta = E_j, and
 E_j is a smooth function of phi (of the state at the switch that begins arc j and its variation
@@ -61,7 +65,7 @@ it cannot cross a switch). Near a saddle theta_s the target's
 level is about |cos(theta_s)| (theta_s - theta*)^2 / 2 from the saddle's (kappa^2 / 2 for the
 upright at small kappa), so an extremal reaching it is isolated to a width of about that over
 |dE_j / dphi|, not to MIN_WIDTH. The residual assumption of completeness is that bound: on every
-half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''|, |E_j''| and the switch
+half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''|, |e(t_a, .)''|, |E_j''| and the switch
 times' stay below CURVATURE times their Hermite estimates, and the time of a label seen by some
 samples only stays above its tangents toward the others (`_dips`). A feature narrower than the half that shows in none of the values
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
@@ -284,7 +288,8 @@ class Coverage:
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
                 f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g} "
                 f"(assumed: between two samples, the second derivatives in phi of a turning point's angle and time, "
-                f"of omega at t = {self.horizon:.4g}, of an arc's energy and of a switch's time stay below {CURVATURE:g} x "
+                f"of omega and omega^2 / 2 - cos(theta) at t = {self.horizon:.4g}, of an arc's energy and of a "
+                f"switch's time stay below {CURVATURE:g} x "
                 f"their cubic Hermite estimates from the samples' values and slopes, and the time of a turning point "
                 f"seen by some samples only stays above its tangents toward the others)")
         if self.stopped:
@@ -382,7 +387,8 @@ class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
     index in arc) -> (t, theta) in `events` and their derivatives in phi -> (dt/dphi,
     dtheta/dphi) in `slopes`, its angular velocity and that's derivative in phi at the end of each
-    integration and at its acceptance time, t -> (omega, domega/dphi) in `ends`, each arc's energy
+    integration and at its acceptance time, t -> (omega, domega/dphi, e, de/dphi) in `ends` (e =
+    omega^2 / 2 - cos(theta), the pendulum's energy without the torque's work), each arc's energy
     and its derivative in phi, arc -> (E, dE/dphi) in `energies` (`_energy`), the switches' times and
     their derivatives in phi in `switch_times`, `switch_slopes`, and where the integration ended (to
     extend it from there)."""
@@ -401,14 +407,15 @@ class _Sample:
         return bisect.bisect_left(self.switch_times, t)
 
     def omega(self, family, t):
-        """(omega, domega/dphi) at elapsed time t: recorded, or integrated on to t, or (t passed
-        without a record, the scan's acceptance lowered below an earlier one) integrated again from 0."""
+        """(omega, domega/dphi, e, de/dphi) at elapsed time t: recorded, or integrated on to t, or (t
+        passed without a record, the scan's acceptance lowered below an earlier one) integrated again
+        from 0."""
         if t not in self.ends:
             if self.duration < t:
                 self.integrate(family, t)
             else:
                 _, _, _, _, (y, dy, _), _ = family.run(self.phi, self.u0, t, taylor.SCAN)
-                self.ends[t] = (float(y[1]), float(dy[1]))
+                self.ends[t] = _motion(y, dy)
         return self.ends[t]
 
     def __init__(self, family, phi, u0, duration):
@@ -441,9 +448,16 @@ class _Sample:
             last = last + 1 if arc == n_sw else last
         self.end = (*end, arcs + n_sw, last + (index if n_sw == 0 else 0))
         if marked is not None:
-            self.ends[accept] = (float(marked[0][1]), float(marked[1][1]))
-        self.ends[duration] = (float(end[0][1]), float(end[1][1]))
+            self.ends[accept] = _motion(*marked)
+        self.ends[duration] = _motion(end[0], end[1])
         self.duration = duration
+
+
+def _motion(y, dy):
+    """(omega, domega/dphi, e, de/dphi) of the state y and its variation dy: e = omega^2 / 2 - cos(theta)
+    > 1 only where omega != 0."""
+    theta, omega, dtheta, domega = float(y[0]), float(y[1]), float(dy[0]), float(dy[1])
+    return omega, domega, 0.5 * omega * omega - math.cos(theta), omega * domega + math.sin(theta) * dtheta
 
 
 class _Family:
@@ -637,13 +651,17 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # it are constant where it has no zero), else recorded at t_a (integrated on, or again from t = 0)
     later = [t for t in a.ends.keys() & m.ends.keys() & b.ends.keys() if t >= accept]
     end = min(later, default=accept)
-    (wa, dwa), (wm, dwm), (wb, dwb) = (s.omega(family, end) for s in (a, m, b))
-    quiet = []                              # per half: omega(end, .) has no zero there, or one (monotone)
-    for w0, w1, s0, s1, curvature in zip((wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb),
-                                         _curvatures(wa, wm, wb, dwa, dwm, dwb, h)):
+    (wa, dwa, ea, dea), (wm, dwm, em, dem), (wb, dwb, eb, deb) = (s.omega(family, end) for s in (a, m, b))
+    # per half: omega(end, .) has no zero there, or one (monotone), or e(end, .) > 1 there (a rotation:
+    # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates)
+    quiet = []
+    for w0, w1, s0, s1, curvature, e0, e1, e_curvature in zip(
+            (wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb), _curvatures(wa, wm, wb, dwa, dwm, dwb, h),
+            (ea, em), (em, eb), _curvatures(ea, em, eb, dea, dem, deb, h)):
         bound = CURVATURE * curvature
         quiet.append(min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
-                     or (s0 * s1 > 0 and abs(s0 + s1) > bound * h))
+                     or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)
+                     or min(e0, e1) - CURVATURE * e_curvature * h * h / 8 > 1)
     hidden = not (quiet[0] and quiet[1])
     # a quiet half whose ends see the same turning points before `end` has no zero of omega(end, .) (one
     # would change them): every phi of it sees those, and a label after `end` at its ends is after it there

@@ -35,8 +35,8 @@ def brute_force(problem, horizon):
                     for k in S._targets(problem, min(th0, th1), max(th0, th1)):
                         if abs(th1 - th0) < 1.0:
                             root = S._root(family, problem, u0, label, k, previous.phi, phi, max(t0, t1), taylor.CHECK)
-                            if root is not None and root[2][0] <= horizon:
-                                found.append(float(root[2][0]))
+                            if root is not None and root.T <= horizon:
+                                found.append(root.T)
             previous = sample
     return sorted(found)
 

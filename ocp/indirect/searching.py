@@ -456,7 +456,7 @@ class _Sample:
 def _motion(y, dy):
     """(omega, domega/dphi, e, de/dphi) of the state y and its variation dy: e = omega^2 / 2 - cos(theta)
     > 1 only where omega != 0."""
-    theta, omega, dtheta, domega = float(y[0]), float(y[1]), float(dy[0]), float(dy[1])
+    (theta, omega, _, _), (dtheta, domega, _, _) = y.tolist(), dy.tolist()
     return omega, domega, 0.5 * omega * omega - math.cos(theta), omega * domega + math.sin(theta) * dtheta
 
 

@@ -3,8 +3,8 @@
     python benchmarks/search_cost.py [--before REV] [--time-limit S] [--repeats R] [--only WORD]
 
 For each case of CASES (both problems from their standard starts for kappa 0.05 to 10, moving starts
-near the upright, fast starts down to kappa = 0.05, a start far out, both readings, targets 60 to 1000 rad
-away on the plane): `ocp.indirect.search` alone, warm
+near the upright, fast starts down to kappa = 0.05 (to rest at the bottom and to a branch of the plane
+too), a start far out, both readings, targets 60 to 1000 rad away on the plane): `ocp.indirect.search` alone, warm
 (the compiled kernels loaded by a first search), its CPU seconds (the least of `repeats` runs: the
 machine is shared, CPU time is what the search costs), the extremals it integrated, its status,
 T and the switch count. With --before REV the same cases are run, in a subprocess, by the code of
@@ -32,7 +32,8 @@ CASES = ([("swing-up", k, (0.0, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 
             ("damping", 1.0, (0.0, 50.0), None), ("swing-up", 0.1, (0.0, 50.0), None), ("swing-up", 0.05, (0.0, 50.0), None),
             ("damping", 0.05, (2.5, -0.3), None), ("swing-up", 0.5, (1000.0, 0.0), None), ("swing-up", 1.0, (0.0, 0.0), 1),
             ("swing-up", 0.05, (0.0, 0.0), 158), ("swing-up", 0.5, (0.0, 0.0), 20), ("damping", 0.3, (0.0, 0.0), -10),
-            ("damping", 0.2, (1.0, -4.0), 2), ("damping", 8.0, (1.0, 2.0), 0), ("swing-up", 0.2, (0.0, 0.0), -1)])
+            ("damping", 0.2, (1.0, -4.0), 2), ("damping", 8.0, (1.0, 2.0), 0), ("swing-up", 0.2, (0.0, 0.0), -1),
+            ("damping", 0.25, (0.0, 25.0), None), ("swing-up", 0.3, (-1.0, 14.0), -2)])
 
 
 def measure(cases, repeats, limit):

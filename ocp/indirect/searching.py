@@ -109,7 +109,7 @@ extremals, 7 isolated to MIN_WIDTH; 33,040 before the energy bound, which isolat
 reaching a saddle coarser); so does a target many turns away on the plane (swing-up to branch 20 at
 kappa = 0.5: 2.2e4 extremals to the optimum, 1.2e5 more to a runner-up 15 % slower, which the
 search does not pay: the scan for the runner-up integrates at most RUNNER_UP_BUDGET times the
-extremals before it). A fast start costs in the length of its
+extremals before it, or RUNNER_UP_FLOOR). A fast start costs in the length of its
 extremals more than in their number, where kappa is small: swing-up from (0, 50), 373 extremals at
 kappa = 1 (T = 49), 1,000 of length 500 to 800 at kappa = 0.1 (T = 489), 1,494 at kappa = 0.05
 (T = 976). `time_limit` ends a scan with the best arrival so far (status "stopped", not proven
@@ -168,14 +168,20 @@ FAR = 1e-2
 #: a turning point's angle changing by more than this over the finest spacing is discontinuous there
 JUMP = 1.0
 #: a scan whose acceptance falls below this fraction of its own goes on with that acceptance's
-#: horizon (new extremals integrated to it, omega checked at the acceptance)
-RESCAN = 0.9
+#: horizon (new extremals integrated to it, omega checked at the acceptance): a check at a time far
+#: past the acceptance sees turning points that cannot be arrivals (damping from (0, 25) at kappa =
+#: 0.25: 23,890 extremals at 0.9, 10,717 at 0.97; an extremal sampled before the fall may be
+#: integrated again, to the new acceptance, where its neighbours were sampled after: 0.7 % more on
+#: the standard and random states of the fingerprint set)
+RESCAN = 0.97
 #: the scan extends to the best arrival time times (1 + MARGIN), to report the runner-up
 MARGIN = 0.2
-#: ... integrating at most this many times the extremals of the scans before it (the optimum's); past
-#: that, the search reports the optimum without a runner-up (swing-up to branch 20 at kappa = 0.5:
-#: 2.2e4 extremals to the optimum, 1.2e5 more to a runner-up 15 % slower)
+#: ... integrating at most this many times the extremals of the scans before it (the optimum's), or
+#: RUNNER_UP_FLOOR if more; past that, the search reports the optimum without a runner-up (swing-up
+#: to branch 20 at kappa = 0.5: 2.2e4 extremals to the optimum, 1.2e5 more to a runner-up 15 %
+#: slower; the standard swing-up at kappa = 0.05: 61, then 153 more)
 RUNNER_UP_BUDGET = 1.0
+RUNNER_UP_FLOOR = 2000
 #: the horizon grows by this factor while no arrival is found, up to the larger of MAX_HORIZON and
 #: REACH times Problem.time_estimate (|omega0| / kappa of braking alone: 1000 from |omega0| = 50 at
 #: kappa = 0.05)
@@ -1102,8 +1108,8 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None,
     from `horizon`, e.g. a feasible time known, whose acceptance is then not lowered) until an arrival
     is found, then once more to the best time times (1 + margin) if the scan stopped short of it and
     (with margin <= MARGIN, whose purpose is the runner-up) found no runner-up, integrating at most
-    `runner_up_budget` times the extremals before it (then the optimum is reported without a
-    runner-up): a wider margin (the bench's references, the reference set) asks for every arrival
+    `runner_up_budget` times the extremals before it, or RUNNER_UP_FLOOR (then the optimum is reported
+    without a runner-up): a wider margin (the bench's references, the reference set) asks for every arrival
     before (1 + margin) times the best, whatever it costs. A start at rest in the upper half with the target below is scanned
     backwards in time (`_Backward`), a symmetric one (`_center`) over one half-circle and mirrored.
 
@@ -1149,7 +1155,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None,
             notes.append(f"scanned to {horizon:.4g}, extended to {wanted:.4g} for the runner-up")
             done = (tuple(arrivals), coverage)
             if margin <= MARGIN:
-                clock.budget = (1 + runner_up_budget) * family.count
+                clock.budget = family.count + max(runner_up_budget * family.count, RUNNER_UP_FLOOR)
             horizon = wanted
             continue
         if horizon >= limit:

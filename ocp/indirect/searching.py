@@ -104,14 +104,15 @@ damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under th
 (at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
 moving start near the upright is still scanned forwards, and may be slow: after a passage near the
 saddle, the later arcs' energies and turning points change by 1e3 to 1e5 per radian of phi, sweeping
-many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 9,623
+many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 9,236
 extremals, 7 isolated to MIN_WIDTH; 33,040 before the energy bound, which isolates the extremals
-reaching a saddle coarser); so does a target many turns away on the plane (swing-up to branch 20 at
+reaching a saddle coarser); so does a fast start braking at small kappa to rest, whose braking ends
+near the separatrix (damping from (0, 25) at kappa = 0.25: 1.1e4 extremals); so does a target many turns away on the plane (swing-up to branch 20 at
 kappa = 0.5: 2.2e4 extremals to the optimum, 1.2e5 more to a runner-up 15 % slower, which the
 search does not pay: the scan for the runner-up integrates at most RUNNER_UP_BUDGET times the
 extremals before it, or RUNNER_UP_FLOOR). A fast start costs in the length of its
-extremals more than in their number, where kappa is small: swing-up from (0, 50), 373 extremals at
-kappa = 1 (T = 49), 1,000 of length 500 to 800 at kappa = 0.1 (T = 489), 1,494 at kappa = 0.05
+extremals more than in their number, where kappa is small: swing-up from (0, 50), 367 extremals at
+kappa = 1 (T = 49), 690 of length 500 to 800 at kappa = 0.1 (T = 489), 776 at kappa = 0.05
 (T = 976). `time_limit` ends a scan with the best arrival so far (status "stopped", not proven
 optimal).
 """

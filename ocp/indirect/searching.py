@@ -66,7 +66,8 @@ level is about |cos(theta_s)| (theta_s - theta*)^2 / 2 from the saddle's (kappa^
 upright at small kappa), so an extremal reaching it is isolated to a width of about that over
 |dE_j / dphi|, not to MIN_WIDTH. The residual assumption of completeness is that bound: on every
 half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''|, |e(t_a, .)''|, |E_j''| and the switch
-times' stay below CURVATURE times their Hermite estimates, and the time of a label seen by some
+times' stay below CURVATURE times their Hermite estimates (omega(t_a, .) and e(t_a, .) have a kink
+where a switch crosses t_a, their slope jumping by 2 kappa dt_s/dphi, times omega for e: it too), and the time of a label seen by some
 samples only stays above its tangents toward the others (`_dips`). A feature narrower than the half that shows in none of the values
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
 not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
@@ -654,9 +655,10 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     horizon = extended / EXTEND
     seen = [s.seen(horizon) for s in (a, m, b)]
     alike = seen[0] == seen[1] == seen[2]
-    # omega at t_a, or at a later time the three recorded (a conservative check: the turning points before
-    # it are constant where it has no zero), else recorded at t_a (integrated on, or again from t = 0)
-    later = [t for t in a.ends.keys() & m.ends.keys() & b.ends.keys() if t >= accept]
+    # omega at t_a, or at a later time before the horizon the three recorded (a conservative check: the
+    # turning points before it are constant where it has no zero, and those the labels below examine),
+    # else recorded at t_a (integrated on, or again from t = 0)
+    later = [t for t in a.ends.keys() & m.ends.keys() & b.ends.keys() if accept <= t <= horizon]
     end = min(later, default=accept)
     (wa, dwa, ea, dea), (wm, dwm, em, dem), (wb, dwb, eb, deb) = (s.omega(family, end) for s in (a, m, b))
     # per half: omega(end, .) has no zero there, or one (monotone), or e(end, .) > 1 there (a rotation:
@@ -954,6 +956,16 @@ class _Solved(NamedTuple):
         return self.check.T
 
 
+def _accepting(arrive):
+    """(accept, horizon) of a scan that goes on to the acceptance `arrive`: the horizon whose
+    acceptance, horizon * (1 - HORIZON_BAND) as a sample records it (`_Sample.integrate`), is
+    `arrive` or the next float above it (not a float below: omega is checked at it)."""
+    horizon = arrive / (1 - HORIZON_BAND)
+    while horizon * (1 - HORIZON_BAND) < arrive:
+        horizon = math.nextafter(horizon, math.inf)
+    return horizon * (1 - HORIZON_BAND), horizon
+
+
 def scan(problem, horizon, original=None, clock=None, halves=2, family=None, margin=MARGIN, floor=0.0):
     """(arrivals, Coverage) of every extremal reaching the target before the acceptance: horizon *
     (1 - HORIZON_BAND), lowered as arrivals are bracketed (`_Acceptance`), never below `floor`; the
@@ -986,7 +998,7 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
                 acceptance.add(f[5])
             arrive = acceptance.value
             if arrive < RESCAN * accept:        # on, to the horizon of the acceptance reached
-                accept, horizon = arrive, arrive / (1 - HORIZON_BAND)
+                accept, horizon = _accepting(arrive)
             finest = min(finest, 0.5 * (b.phi - a.phi))
             if split and b.phi - a.phi > 2 * MIN_WIDTH:
                 heapq.heappush(queue, (soonest, next(order), u0, a, m))
@@ -1160,6 +1172,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None,
             horizon = wanted
             continue
         if horizon >= limit:
-            return Search((), coverage, tuple(notes + [f"no extremal reaches the target before {coverage.horizon:.4g}"]))
+            found = "no extremal reaches the target" if coverage.complete else "no arrival found, intervals unresolved,"
+            return Search((), coverage, tuple(notes + [f"{found} before {coverage.horizon:.4g}"]))
         notes.append(f"no arrival before {coverage.horizon:.4g}")
         horizon = min(GROWTH * horizon, limit)

@@ -108,7 +108,7 @@ saddle, the later arcs' energies and turning points change by 1e3 to 1e5 per rad
 many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 9,236
 extremals, 7 isolated to MIN_WIDTH; 33,040 before the energy bound, which isolates the extremals
 reaching a saddle coarser); so does a fast start braking at small kappa to rest, whose braking ends
-near the separatrix (damping from (0, 25) at kappa = 0.25: 1.1e4 extremals); so does a target many turns away on the plane (swing-up to branch 20 at
+near the separatrix (damping from (0, 25) at kappa = 0.25: 1.0e4 extremals); so does a target many turns away on the plane (swing-up to branch 20 at
 kappa = 0.5: 2.2e4 extremals to the optimum, 1.2e5 more to a runner-up 15 % slower, which the
 search does not pay: the scan for the runner-up integrates at most RUNNER_UP_BUDGET times the
 extremals before it, or RUNNER_UP_FLOOR). A fast start costs in the length of its
@@ -172,7 +172,7 @@ JUMP = 1.0
 #: a scan whose acceptance falls below this fraction of its own goes on with that acceptance's
 #: horizon (new extremals integrated to it, omega checked at the acceptance): a check at a time far
 #: past the acceptance sees turning points that cannot be arrivals (damping from (0, 25) at kappa =
-#: 0.25: 23,890 extremals at 0.9, 10,717 at 0.97; an extremal sampled before the fall may be
+#: 0.25: 23,890 extremals at 0.9, 10,717 at 0.97, 10,483 with `_accepting`; an extremal sampled before the fall may be
 #: integrated again, to the new acceptance, where its neighbours were sampled after: 0.7 % more on
 #: the standard and random states of the fingerprint set)
 RESCAN = 0.97

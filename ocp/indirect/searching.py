@@ -65,8 +65,8 @@ it cannot cross a switch). Near a saddle theta_s the target's
 level is about |cos(theta_s)| (theta_s - theta*)^2 / 2 from the saddle's (kappa^2 / 2 for the
 upright at small kappa), so an extremal reaching it is isolated to a width of about that over
 |dE_j / dphi|, not to MIN_WIDTH. The residual assumption of completeness is that bound: on every
-half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''|, |e(t_a, .)''|, |E_j''| and the switch
-times' stay below CURVATURE times their Hermite estimates (omega(t_a, .) and e(t_a, .) have a kink
+half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''|, |e(t_a, .)''|, |theta(t_a, .)''|, |E_j''| and the
+switch times' stay below CURVATURE times their Hermite estimates (omega(t_a, .) and e(t_a, .) have a kink
 where a switch crosses t_a, their slope jumping by 2 kappa dt_s/dphi, times omega for e: it too), and the time of a label seen by some
 samples only stays above its tangents toward the others (`_dips`). A feature narrower than the half that shows in none of the values
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
@@ -79,7 +79,15 @@ found (a sign change that is a jump, not a crossing, between samples whose value
 one crossing: the residual assumption failing, and caught) is examined again and split, where the
 acceptance without it is the one reached (it lowered nothing); else, or at MIN_WIDTH, it is reported
 too. The labels are examined in time order
-along the extremal: once one is after the acceptance on a whole half, so is every later one. The
+along the extremal: once one is after the acceptance on a whole half, so is every later one, and
+so is every label of an arc that begins after a switch bounded after it there. The acceptance of a
+half may be earlier than the scan's: an arrival at T (a turning point on a target, F = sqrt(2 (e +
+1)) = F* there) reaches the state at t_a no sooner than T + `_transit` (|dF/dt| <= kappa, |omega| <=
+F: the time to change F to its value at t_a, and to cover the distance from the nearest target to
+theta(t_a), both bounded on the half by their values and slopes), so arrivals on it are before t_a
+less that (swing-up from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296: the extremals
+near the bottom 65 pi away at t_a = 56 arrived before 25, if at all; 192,026 extremals in 38 s,
+stopped, before). The
 acceptance itself falls as arrivals are bracketed, to the runner-up's latest time (or 1 + margin
 times the best's: `_Acceptance`), so that a fast start, whose turning points cross hundreds of
 targets within 20 % of the best time, solves two of them, not all. When the acceptance falls below
@@ -296,7 +304,7 @@ class Coverage:
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
                 f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g} "
                 f"(assumed: between two samples, the second derivatives in phi of a turning point's angle and time, "
-                f"of omega and omega^2 / 2 - cos(theta) at t = {self.horizon:.4g}, of an arc's energy and of a "
+                f"of omega, theta and omega^2 / 2 - cos(theta) at t = {self.horizon:.4g}, of an arc's energy and of a "
                 f"switch's time stay below {CURVATURE:g} x "
                 f"their cubic Hermite estimates from the samples' values and slopes, and the time of a turning point "
                 f"seen by some samples only stays above its tangents toward the others)")
@@ -395,8 +403,8 @@ class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
     index in arc) -> (t, theta) in `events` and their derivatives in phi -> (dt/dphi,
     dtheta/dphi) in `slopes`, its angular velocity and that's derivative in phi at the end of each
-    integration and at its acceptance time, t -> (omega, domega/dphi, e, de/dphi) in `ends` (e =
-    omega^2 / 2 - cos(theta), the pendulum's energy without the torque's work), each arc's energy
+    integration and at its acceptance time, t -> (omega, domega/dphi, e, de/dphi, theta, dtheta/dphi) in
+    `ends` (e = omega^2 / 2 - cos(theta), the pendulum's energy without the torque's work), each arc's energy
     and its derivative in phi, arc -> (E, dE/dphi) in `energies` (`_energy`), the switches' times and
     their derivatives in phi in `switch_times`, `switch_slopes`, and where the integration ended (to
     extend it from there)."""
@@ -415,7 +423,7 @@ class _Sample:
         return bisect.bisect_left(self.switch_times, t)
 
     def omega(self, family, t):
-        """(omega, domega/dphi, e, de/dphi) at elapsed time t: recorded, or integrated on to t, or (t
+        """(omega, domega/dphi, e, de/dphi, theta, dtheta/dphi) at elapsed time t (`_motion`): recorded, or integrated on to t, or (t
         passed without a record, the scan's acceptance lowered below an earlier one) integrated again
         from 0."""
         if t not in self.ends:
@@ -462,10 +470,11 @@ class _Sample:
 
 
 def _motion(y, dy):
-    """(omega, domega/dphi, e, de/dphi) of the state y and its variation dy: e = omega^2 / 2 - cos(theta)
-    > 1 only where omega != 0."""
+    """(omega, domega/dphi, e, de/dphi, theta, dtheta/dphi) of the state y and its variation dy:
+    e = omega^2 / 2 - cos(theta) > 1 only where omega != 0."""
     (theta, omega, _, _), (dtheta, domega, _, _) = y.tolist(), dy.tolist()
-    return omega, domega, 0.5 * omega * omega - math.cos(theta), omega * domega + math.sin(theta) * dtheta
+    return (omega, domega, 0.5 * omega * omega - math.cos(theta), omega * domega + math.sin(theta) * dtheta,
+            theta, dtheta)
 
 
 class _Family:
@@ -595,6 +604,23 @@ def _energy_excludes(problem, a, m, b, arc, h):
     return not _targets(problem, min(ends), max(ends))
 
 
+def _transit(problem, lo, hi, e_lo, e_hi):
+    """A lower bound of the time from an arrival (a turning point on an allowed target theta*) to a
+    state with theta in [lo, hi] and e = omega^2 / 2 - cos(theta) in [e_lo, e_hi]: along every
+    trajectory F = sqrt(2 (e + 1)) changes at |dF/dt| <= kappa and |omega| <= F (Problem.lower_bound),
+    so from F* = 2 |sin(theta* / 2)| the time is at least |F - F*| / kappa, and a path of length d (the
+    distance of [lo, hi] to the nearest target) at least (sqrt(F*^2 + 2 kappa d) - F*) / kappa."""
+    kappa, f_target = problem.kappa, 2 * abs(math.sin(problem.base / 2))
+    change = 0.0
+    if math.isfinite(e_lo + e_hi):
+        f_lo, f_hi = (math.sqrt(2 * max(e + 1, 0.0)) for e in (e_lo, e_hi))
+        change = max(f_lo - f_target, f_target - f_hi, 0.0) / kappa
+    if not math.isfinite(lo + hi) or _targets(problem, lo, hi):
+        return change
+    d = min(_distance(problem, lo), _distance(problem, hi))
+    return max(change, (math.sqrt(f_target * f_target + 2 * kappa * d) - f_target) / kappa)
+
+
 def _dips(label, samples, values, arrive):
     """Whether the time of the turning point `label`, seen at some of the samples only (values None
     where not), extrapolated along its slope from a sample that sees it to one that does not, falls
@@ -660,17 +686,23 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # else recorded at t_a (integrated on, or again from t = 0)
     later = [t for t in a.ends.keys() & m.ends.keys() & b.ends.keys() if accept <= t <= horizon]
     end = min(later, default=accept)
-    (wa, dwa, ea, dea), (wm, dwm, em, dem), (wb, dwb, eb, deb) = (s.omega(family, end) for s in (a, m, b))
+    (wa, dwa, ea, dea, xa, dxa), (wm, dwm, em, dem, xm, dxm), (wb, dwb, eb, deb, xb, dxb) = (
+        s.omega(family, end) for s in (a, m, b))
     # per half: omega(end, .) has no zero there, or one (monotone), or e(end, .) > 1 there (a rotation:
-    # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates)
-    quiet = []
-    for w0, w1, s0, s1, curvature, e0, e1, e_curvature in zip(
+    # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates);
+    # and the acceptance there, `arrive` or earlier: an arrival at T reaches the state at `end` (theta and
+    # e bounded on the half) no sooner than T + `_transit`
+    quiet, arrive_by = [], []
+    for w0, w1, s0, s1, curvature, e0, e1, e_reach, x0, x1, x_reach in zip(
             (wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb), _curvatures(wa, wm, wb, dwa, dwm, dwb, h),
-            (ea, em), (em, eb), _curvatures(ea, em, eb, dea, dem, deb, h)):
+            (ea, em), (em, eb), _reaches(ea, em, eb, dea, dem, deb, h),
+            (xa, xm), (xm, xb), _reaches(xa, xm, xb, dxa, dxm, dxb, h)):
         bound = CURVATURE * curvature
         quiet.append(min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
                      or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)
-                     or min(e0, e1) - CURVATURE * e_curvature * h * h / 8 > 1)
+                     or min(e0, e1) - e_reach > 1)
+        arrive_by.append(min(arrive, end - _transit(problem, min(x0, x1) - x_reach, max(x0, x1) + x_reach,
+                                                    min(e0, e1) - e_reach, max(e0, e1) + e_reach)))
     hidden = not (quiet[0] and quiet[1])
     # a quiet half whose ends see the same turning points before `end` has no zero of omega(end, .) (one
     # would change them): every phi of it sees those, and a label after `end` at its ends is after it there
@@ -684,9 +716,16 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
             split, soonest = True, accept
     # labels in time order along an extremal, (arc, index in arc): once a label's turning point is
     # after the acceptance on a whole half, every later one is too (at each phi, later in time; a label
-    # absent there says nothing of the later ones: `after` is this label's only)
-    late = [False, False]
+    # absent there says nothing of the later ones: `after` is this label's only); so is every label from
+    # arc j on where a switch before arc j that a, m and b record is after it on the whole half
+    late, common, switched = [False, False], min(len(s.switch_times) for s in (a, m, b)), {}
     for label in sorted(seen[0] | seen[1] | seen[2]):
+        switch = min(label[0], common) - 1
+        if switch >= 0 and switch not in switched:
+            times, slopes = [s.switch_times[switch] for s in (a, m, b)], [s.switch_slopes[switch] for s in (a, m, b)]
+            reach_s = _reaches(*times, *slopes, h)
+            switched[switch] = (min(times[:2]) - reach_s[0] > arrive_by[0], min(times[1:]) - reach_s[1] > arrive_by[1])
+            late = [late[0] or switched[switch][0], late[1] or switched[switch][1]]
         if late[0] and late[1]:
             break
         after = [settled[half] and label not in before[half] for half in (0, 1)]
@@ -699,8 +738,9 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                     s.integrate(family, extended)
             values = [s.events.get(label) for s in (a, m, b)]
             if None in values:
-                if min(v[0] for v in values if v is not None) > arrive + DIP * (extended / EXTEND - arrive) \
-                        and not _dips(label, (a, m, b), values, arrive):
+                latest = max(arrive_by)
+                if min(v[0] for v in values if v is not None) > latest + DIP * (extended / EXTEND - latest) \
+                        and not _dips(label, (a, m, b), values, latest):
                     continue
                 if _energy_excludes(problem, a, m, b, label[0], h):
                     continue
@@ -709,11 +749,11 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                 continue
         (ta, tha), (tm, thm), (tb, thb) = values
         (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
-        early = (min(ta, tm) <= arrive and not late[0], min(tm, tb) <= arrive and not late[1])
+        early = (min(ta, tm) <= arrive_by[0] and not late[0], min(tm, tb) <= arrive_by[1] and not late[1])
         reach_t = None                      # how far the time may dip below its ends' on each half
         if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
             reach_t = _reaches(ta, tm, tb, dta, dtm, dtb, h)
-            late = [late[0] or min(ta, tm) - reach_t[0] > arrive, late[1] or min(tm, tb) - reach_t[1] > arrive]
+            late = [late[0] or min(ta, tm) - reach_t[0] > arrive_by[0], late[1] or min(tm, tb) - reach_t[1] > arrive_by[1]]
             early = (not late[0], not late[1])
         early = (early[0] and not after[0], early[1] and not after[1])
         if not (early[0] or early[1]):      # the turning point's time stays after the acceptance

@@ -135,8 +135,9 @@ def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0),
     with slopes (dt/dphi, dtheta/dphi) = (t[1], slope), or the turning points `events` {label: (t,
     theta, dt/dphi, dtheta/dphi)}, (omega, domega/dphi) = `omega` at the acceptance time of a scan to
     horizon 10 (with e = omega^2 / 2 - cos(theta) and its slope: `omega[2:4]`, (0, 0) if not given, which
-    says nothing of omega), the arcs' `energies` {arc: (E, dE/dphi)} (none known by default) and the
-    `switches` (t, dt/dphi)."""
+    says nothing of omega; and theta: `omega[4:6]`, pi if not given, on the target, which says nothing
+    of the transit time), the arcs' `energies` {arc: (E, dE/dphi)} (none known by default) and the
+    `switches` (t, dt/dphi), their states on the target."""
     if events is None:
         events = {} if theta is None else {label: (t[0], theta, t[1], slope)}
     sample = S._Sample.__new__(S._Sample)
@@ -146,6 +147,7 @@ def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0),
     sample.ends = {10.0 * (1 - S.HORIZON_BAND): (*omega[:2], *(omega[2:4] or (0.0, 0.0)), *(omega[4:] or (math.pi, 0.0)))}
     sample.energies = energies or {}
     sample.switch_times, sample.switch_slopes = [t for t, _ in switches], [d for _, d in switches]
+    sample.switch_states = [(math.pi, 0.0, 1.0, 0.0)] * len(switches)    # on the upright target: no transit
     return sample
 
 
@@ -232,6 +234,79 @@ def test_the_recorded_energy_at_the_acceptance_is_its_definition_and_its_slope_t
     energy = lambda th, om: 0.5 * om * om - math.cos(th)
     assert domega == pytest.approx((w1 - w0) / (2 * h), rel=1e-4, abs=1e-5)
     assert de == pytest.approx((energy(t1, w1) - energy(t0, w0)) / (2 * h), rel=1e-4, abs=1e-5)
+
+
+@pytest.mark.parametrize("x0, kappa, phi, u0", [((0.0, 5.0), 0.1, 0.6, 1), ((2.5, -0.3), 0.3, 2.0, 1)])
+def test_the_recorded_switch_states_are_the_state_at_the_switch_and_their_slopes_the_difference_quotients(x0, kappa,
+                                                                                                          phi, u0):
+    """_Sample.switch_states: (theta, dtheta/dphi, e, de/dphi) at each switch, the slopes along the
+    switch (the state at t_s(phi)), against central differences in phi of the samples beside it."""
+    family = S._Family(x0, kappa)
+    sample, h = S._Sample(family, phi, u0, 30.0), 1e-6
+    after, before = S._Sample(family, phi + h, u0, 30.0), S._Sample(family, phi - h, u0, 30.0)
+    assert len(sample.switch_states) == len(sample.switch_times) >= 1
+    for k, (theta, dtheta, e, de) in enumerate(sample.switch_states[:len(before.switch_states)]):
+        assert dtheta == pytest.approx((after.switch_states[k][0] - before.switch_states[k][0]) / (2 * h), rel=1e-4, abs=1e-5)
+        assert de == pytest.approx((after.switch_states[k][2] - before.switch_states[k][2]) / (2 * h), rel=1e-4, abs=1e-5)
+    for t, (theta, omega) in zip(sample.switch_times, [(s[0], None) for s in sample.switch_states]):
+        _, _, _, _, (y, _, _), _ = family.run(phi, u0, t, taylor.SCAN)
+        assert theta == pytest.approx(float(y[0]), abs=1e-7)
+
+
+@pytest.mark.parametrize("kind, kappa", [("swing-up", 0.3), ("damping", 0.3), ("damping", 2.0), ("swing-up", 0.05)])
+def test_no_trajectory_leaves_a_turning_point_on_the_target_faster_than_the_transit_bound(kind, kappa):
+    """`_transit`: from rest on the target (theta*, 0), along random bang-bang controls (arcs of 0.05 to
+    3, kept at least 1 on the control pushing away, so that the pendulum travels far), no state at time
+    t has a transit bound above t; and the bound is not vacuous (it reaches 50 % of t on some)."""
+    problem = make(kind, kappa, branch=0)
+    rng = np.random.default_rng(3)
+    tightest = 0.0
+    for _ in range(40):
+        x, t = np.array(problem.target(0)), 0.0
+        u = float(rng.choice([-1.0, 1.0]))
+        for _ in range(30):
+            duration = float(rng.uniform(0.05, 3.0))
+            for step in np.full(int(duration / 0.05), 0.05):
+                x = taylor.bang(x, [u], [step], kappa, *taylor.CHECK)
+                t += step
+                e = 0.5 * x[1] ** 2 - math.cos(x[0])
+                bound = S._transit(problem, x[0], x[0], e, e)
+                assert bound <= t * (1 + 1e-12)
+                tightest = max(tightest, bound / t)
+            u = -u if rng.random() < 0.7 else u
+    assert tightest > 0.5
+
+
+def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_samples_share():
+    """`_arrivals_by`: samples that see no turning point, recorded at the acceptance t = 8 at theta =
+    20 (the upright target pi 16.9 rad away on the plane, e = 0.3, swing-up at kappa = 1): an arrival there would
+    take (sqrt(4 + 2 * 16.9) - 2) / 1 = 4.15 to reach it, so none lies after 8 - 4.15; a switch they all
+    see at t = 3 at theta = 10 lowers that to 3 - transit(6.86) = 0.79. Where one sample sees a turning
+    point before t = 8 (at t = 5) that the others do not, the record there says nothing (the family
+    changes between them), and the switch, whose window (3 +- 2.21) does not reach 8, ends the descent;
+    nor does the record say anything where one sample sees a switch before it that the others do not."""
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
+    e = 0.3
+    one = S._transit(problem, 20.0, 20.0, e, e)
+    assert one == pytest.approx(math.sqrt(4 + 2 * (20 - math.pi)) - 2)
+
+    def samples(events=({}, {}, {}), switches=True, extra=False):
+        out = []
+        for i, phi in enumerate((0.0, 0.1, 0.2)):
+            sample = fake_sample(phi, None, 0.0, (0.5, 0.0, e, 0.0, 20.0, 0.0), events=events[i],
+                                 switches=((3.0, 0.0),) if switches else (((3.0, 0.0),) if extra and i == 2 else ()))
+            sample.switch_states = [(10.0, 0.0, e, 0.0)] * len(sample.switch_times)
+            out.append(sample)
+        return out
+
+    a, m, b = samples(switches=False)
+    assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == pytest.approx([8.0 - one] * 2)
+    a, m, b = samples()
+    assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == pytest.approx([3.0 - S._transit(problem, 10.0, 10.0, e, e)] * 2)
+    a, m, b = samples(events=({}, {}, {(1, 0): (5.0, 12.0, 0.0, 0.0)}))
+    assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
+    a, m, b = samples(switches=False, extra=True)
+    assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
 
 
 def test_a_label_absent_at_both_ends_of_a_settled_half_leaves_the_later_labels_to_be_examined():
@@ -448,22 +523,29 @@ def test_an_arcs_energy_excludes_the_targets_none_of_its_turning_points_can_be_a
     assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == (not excluded)
 
 
-def test_the_energy_bound_isolates_extremals_that_reach_a_saddle_coarser_and_finds_the_same_arrivals(monkeypatch):
-    """Damping from (2.5, -0.3) at kappa = 0.3, a start moving near the upright: the extremals of
-    the family that run into a saddle were each isolated to a spacing of 1e-8 and finer; the arcs'
-    energies resolve them at 1e-4 (172 extremals against 246 without), with the same arrivals, every
-    arrival of the brute force among them."""
+def test_the_energy_and_the_transit_bounds_each_isolate_extremals_that_reach_a_saddle_coarser(monkeypatch):
+    """Damping from (2.5, -0.3) at kappa = 0.3, a start moving near the upright: without the arcs'
+    energies (`_energy_excludes`) and the transit time (`_transit`), the extremals of the family that
+    run into a saddle are each isolated to a spacing of 2.6e-9 (308 extremals); either bound alone
+    resolves them at 8.6e-5 (180 extremals with the energies, 152 with the transit, 150 with both), with
+    the same arrivals, every arrival of the brute force among them."""
     problem = make("damping", 0.3, (2.5, -0.3))
-    result = S.search(problem)
-    monkeypatch.setattr(S, "_energy_excludes", lambda *args: False)
-    without = S.search(problem)
-    assert result.coverage.complete and without.coverage.complete
-    assert result.coverage.extremals < 0.7 * without.coverage.extremals
-    assert result.coverage.finest_spacing > 1e3 * without.coverage.finest_spacing
-    assert [a.T for a in result.arrivals] == pytest.approx([a.T for a in without.arrivals], rel=1e-12)
-    horizon = result.coverage.horizon
+    both = S.search(problem)
+    energy, transit = S._energy_excludes, S._transit
+    searches = {}
+    for name, energy_on, transit_on in (("energy", True, False), ("transit", False, True), ("neither", False, False)):
+        monkeypatch.setattr(S, "_energy_excludes", energy if energy_on else lambda *args: False)
+        monkeypatch.setattr(S, "_transit", transit if transit_on else lambda *args: 0.0)
+        searches[name] = S.search(problem)
+    neither = searches["neither"]
+    for found in (both, searches["energy"], searches["transit"]):
+        assert found.coverage.complete and neither.coverage.complete
+        assert found.coverage.extremals < 0.7 * neither.coverage.extremals
+        assert found.coverage.finest_spacing > 1e4 * neither.coverage.finest_spacing
+        assert [a.T for a in found.arrivals] == pytest.approx([a.T for a in neither.arrivals], rel=1e-12)
+    horizon = both.coverage.horizon
     brute = [T for T in brute_force(problem, horizon) if T <= horizon * 0.999]
-    assert brute and not [T for T in brute if not any(abs(T - a.T) <= 1e-8 * T for a in result.arrivals)]
+    assert brute and not [T for T in brute if not any(abs(T - a.T) <= 1e-8 * T for a in both.arrivals)]
 
 
 def test_a_turning_point_seen_at_one_sample_late_but_falling_steeply_toward_the_others_is_looked_for(monkeypatch):

@@ -81,13 +81,15 @@ acceptance without it is the one reached (it lowered nothing); else, or at MIN_W
 too. The labels are examined in time order
 along the extremal: once one is after the acceptance on a whole half, so is every later one, and
 so is every label of an arc that begins after a switch bounded after it there. The acceptance of a
-half may be earlier than the scan's: an arrival at T (a turning point on a target, F = sqrt(2 (e +
-1)) = F* there) reaches the state at t_a no sooner than T + `_transit` (|dF/dt| <= kappa, |omega| <=
-F: the time to change F to its value at t_a, and to cover the distance from the nearest target to
-theta(t_a), both bounded on the half by their values and slopes), so arrivals on it are before t_a
-less that (swing-up from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296: the extremals
-near the bottom 65 pi away at t_a = 56 arrived before 25, if at all; 192,026 extremals in 38 s,
-stopped, before). The
+half may be earlier than the scan's (`_arrivals_by`): an arrival at T (a turning point on a target,
+F = sqrt(2 (e + 1)) = F* there) is at least `_transit` away in time from every state of its
+extremal (|dF/dt| <= kappa, |omega| <= F: the time to change F, and to cover the distance to the
+nearest target), so none lies within that of a state bounded on the half (at t_a and the other times
+the samples recorded, and at the switches they share, where they see the same switches and turning
+points before it); descending from t_a, each window that reaches the acceptance lowers it (swing-up
+from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296, whose extremals are near the bottom
+65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before; damping from (2.5, -0.3) at
+kappa = 0.1: 9,092 extremals before, 1,514 after). The
 acceptance itself falls as arrivals are bracketed, to the runner-up's latest time (or 1 + margin
 times the best's: `_Acceptance`), so that a fast start, whose turning points cross hundreds of
 targets within 20 % of the best time, solves two of them, not all. When the acceptance falls below
@@ -406,11 +408,12 @@ class _Sample:
     integration and at its acceptance time, t -> (omega, domega/dphi, e, de/dphi, theta, dtheta/dphi) in
     `ends` (e = omega^2 / 2 - cos(theta), the pendulum's energy without the torque's work), each arc's energy
     and its derivative in phi, arc -> (E, dE/dphi) in `energies` (`_energy`), the switches' times and
-    their derivatives in phi in `switch_times`, `switch_slopes`, and where the integration ended (to
-    extend it from there)."""
+    their derivatives in phi in `switch_times`, `switch_slopes`, the state there, (theta, dtheta/dphi,
+    e, de/dphi) in `switch_states` (derivatives along the switch, t_s(phi)), and where the integration
+    ended (to extend it from there)."""
 
     __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end", "energies", "switch_times",
-                 "switch_slopes")
+                 "switch_slopes", "switch_states")
 
     def seen(self, horizon):
         """The labels of the turning points before `horizon`."""
@@ -439,7 +442,7 @@ class _Sample:
         self.duration, self.end = 0.0, None
         theta0, omega0 = family.x0
         self.energies = {0: (_energy(theta0, omega0, _torque(family.kappa, u0, 0)), 0.0)}
-        self.switch_times, self.switch_slopes = [], []
+        self.switch_times, self.switch_slopes, self.switch_states = [], [], []
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
@@ -456,6 +459,10 @@ class _Sample:
             self.switch_slopes.append(dt)
             torque = _torque(family.kappa, self.u0, j)
             self.energies[j] = (_energy(theta, omega, torque), omega * domega + (math.sin(theta) - torque) * dtheta)
+            # along the switch: dtheta and domega are at the fixed time just after it
+            dtheta_s, domega_s = dtheta + omega * dt, domega + (torque - math.sin(theta)) * dt
+            self.switch_states.append((theta, dtheta_s, 0.5 * omega * omega - math.cos(theta),
+                                       omega * domega_s + math.sin(theta) * dtheta_s))
         last = 0
         for t, theta, arc, i, _, _, dtheta, dt in events.tolist():
             label = arcs + int(arc), int(i) + (index if arc == 0 else 0)
@@ -621,6 +628,54 @@ def _transit(problem, lo, hi, e_lo, e_hi):
     return max(change, (math.sqrt(f_target * f_target + 2 * kappa * d) - f_target) / kappa)
 
 
+def _arrivals_by(problem, a, m, b, arrive, h):
+    """For each half of [a.phi, b.phi] (width h), the latest time an arrival may have there, `arrive` or
+    earlier. An arrival at T is `_transit` away from every state of its extremal: none is within that
+    of a state bounded on the half (at a time a, m and b recorded, `_Sample.ends`, or at a switch they
+    all see: its time, angle and e bounded by their values and slopes, `_reaches`), where the three see
+    the same switches and turning points before it (where they do not, the family changes between them
+    in ways their values and slopes need not show: an abnormal end's switches, moving by thousands
+    per radian). From the latest of those states down, each whose window reaches above the latest time
+    left lowers it to the window's start; the first below it whose window does not ends that half's
+    descent."""
+    recorded = sorted(a.ends.keys() & m.ends.keys() & b.ends.keys())
+    switch = min(len(s.switch_times) for s in (a, m, b)) - 1
+    # the turning points the three see alike: the first `shared` in time order, then the first that differs
+    orders = [sorted(s.events, key=s.events.get) for s in (a, m, b)]
+    shared = next((i for i, labels in enumerate(zip(*orders)) if not labels[0] == labels[1] == labels[2]),
+                  min(len(o) for o in orders))
+    differ = [s.events[o[shared]][0] if shared < len(o) else math.inf for s, o in zip((a, m, b), orders)]
+    latest, descending = [arrive, arrive], [True, True]
+    while (descending[0] or descending[1]) and (recorded or switch >= 0):
+        if recorded and (switch < 0 or recorded[-1] >= max(s.switch_times[switch] for s in (a, m, b))):
+            t = recorded.pop()
+            if not (t < min(differ) and bisect.bisect_right(a.switch_times, t) == bisect.bisect_right(
+                    m.switch_times, t) == bisect.bisect_right(b.switch_times, t)):
+                continue
+            times, t_slopes = (t, t, t), (0.0, 0.0, 0.0)
+            (_, _, ea, dea, xa, dxa), (_, _, em, dem, xm, dxm), (_, _, eb, deb, xb, dxb) = (s.ends[t] for s in (a, m, b))
+        else:
+            times, t_slopes = [s.switch_times[switch] for s in (a, m, b)], [s.switch_slopes[switch] for s in (a, m, b)]
+            switch -= 1
+            if not all(t < d for t, d in zip(times, differ)):
+                continue
+            (xa, dxa, ea, dea), (xm, dxm, em, dem), (xb, dxb, eb, deb) = (s.switch_states[switch + 1] for s in (a, m, b))
+        reach_t, reach_x, reach_e = (_reaches(*times, *t_slopes, h), _reaches(xa, xm, xb, dxa, dxm, dxb, h),
+                                     _reaches(ea, em, eb, dea, dem, deb, h))
+        for half, (t0, t1, x0, x1, e0, e1) in enumerate(((times[0], times[1], xa, xm, ea, em),
+                                                         (times[1], times[2], xm, xb, em, eb))):
+            if not descending[half]:
+                continue
+            first, last = min(t0, t1) - reach_t[half], max(t0, t1) + reach_t[half]
+            transit = _transit(problem, min(x0, x1) - reach_x[half], max(x0, x1) + reach_x[half],
+                               min(e0, e1) - reach_e[half], max(e0, e1) + reach_e[half])
+            if first + transit > latest[half]:
+                latest[half] = min(latest[half], last - transit)
+            elif last <= latest[half]:
+                descending[half] = False
+    return latest
+
+
 def _dips(label, samples, values, arrive):
     """Whether the time of the turning point `label`, seen at some of the samples only (values None
     where not), extrapolated along its slope from a sample that sees it to one that does not, falls
@@ -686,24 +741,21 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # else recorded at t_a (integrated on, or again from t = 0)
     later = [t for t in a.ends.keys() & m.ends.keys() & b.ends.keys() if accept <= t <= horizon]
     end = min(later, default=accept)
-    (wa, dwa, ea, dea, xa, dxa), (wm, dwm, em, dem, xm, dxm), (wb, dwb, eb, deb, xb, dxb) = (
+    (wa, dwa, ea, dea, _, _), (wm, dwm, em, dem, _, _), (wb, dwb, eb, deb, _, _) = (
         s.omega(family, end) for s in (a, m, b))
     # per half: omega(end, .) has no zero there, or one (monotone), or e(end, .) > 1 there (a rotation:
-    # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates);
-    # and the acceptance there, `arrive` or earlier: an arrival at T reaches the state at `end` (theta and
-    # e bounded on the half) no sooner than T + `_transit`
-    quiet, arrive_by = [], []
-    for w0, w1, s0, s1, curvature, e0, e1, e_reach, x0, x1, x_reach in zip(
+    # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates)
+    quiet = []
+    for w0, w1, s0, s1, curvature, e0, e1, e_reach in zip(
             (wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb), _curvatures(wa, wm, wb, dwa, dwm, dwb, h),
-            (ea, em), (em, eb), _reaches(ea, em, eb, dea, dem, deb, h),
-            (xa, xm), (xm, xb), _reaches(xa, xm, xb, dxa, dxm, dxb, h)):
+            (ea, em), (em, eb), _reaches(ea, em, eb, dea, dem, deb, h)):
         bound = CURVATURE * curvature
         quiet.append(min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
                      or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)
                      or min(e0, e1) - e_reach > 1)
-        arrive_by.append(min(arrive, end - _transit(problem, min(x0, x1) - x_reach, max(x0, x1) + x_reach,
-                                                    min(e0, e1) - e_reach, max(e0, e1) + e_reach)))
     hidden = not (quiet[0] and quiet[1])
+    # the acceptance of each half, `arrive` or earlier: no arrival lies within `_transit` of a state there
+    arrive_by = _arrivals_by(problem, a, m, b, arrive, h)
     # a quiet half whose ends see the same turning points before `end` has no zero of omega(end, .) (one
     # would change them): every phi of it sees those, and a label after `end` at its ends is after it there
     before = [{label for label, (t, _) in s.events.items() if t <= end} for s in (a, m, b)]

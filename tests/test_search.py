@@ -277,18 +277,47 @@ def test_no_trajectory_leaves_a_turning_point_on_the_target_faster_than_the_tran
     assert tightest > 0.5
 
 
+@pytest.mark.parametrize("branch", [None, 2, -1])
+def test_the_gap_to_the_targets_is_the_least_distance_to_a_target_angle_outside_an_interval(branch):
+    """`_gap` against the distances to the target angles listed one by one (branches -5 to 5)."""
+    problem = make("swing-up", 1.0, branch=branch)
+    rng = np.random.default_rng(5)
+    for lo in rng.uniform(-30, 30, 200):
+        hi = lo + float(rng.exponential(2.0))
+        angles = [problem.target(k)[0] for k in range(-5, 6) if branch is None or k == branch]
+        expected = 0.0 if any(lo <= x <= hi for x in angles) else min(min(abs(x - lo), abs(x - hi)) for x in angles)
+        assert S._gap(problem, lo, hi) == pytest.approx(expected, abs=1e-12)
+
+
+def test_the_transit_bound_is_worked_out_while_it_pays():
+    """`_Payoff`: wanted on the first TRANSIT_TRIALS asks; after that many tries that decided nothing,
+    only on every TRANSIT_PROBE-th ask; wanted on every ask again once one in TRANSIT_PAYOFF decided."""
+    payoff = S._Payoff()
+    for _ in range(S.TRANSIT_TRIALS):
+        assert payoff.wanted()
+        payoff.record(False)
+    wanted = [payoff.wanted() for _ in range(S.TRANSIT_TRIALS + 1, 2 * S.TRANSIT_PROBE + 1)]
+    assert [ask for ask, w in enumerate(wanted, S.TRANSIT_TRIALS + 1) if w] == [S.TRANSIT_PROBE, 2 * S.TRANSIT_PROBE]
+    payoff.record(True)
+    payoff.record(True)
+    assert payoff.decided * S.TRANSIT_PAYOFF >= payoff.tried and payoff.wanted()
+
+
 def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_samples_share():
     """`_arrivals_by`: samples that see no turning point, recorded at the acceptance t = 8 at theta =
-    20 (the upright target pi 16.9 rad away on the plane, e = 0.3, swing-up at kappa = 1): an arrival there would
-    take (sqrt(4 + 2 * 16.9) - 2) / 1 = 4.15 to reach it, so none lies after 8 - 4.15; a switch they all
-    see at t = 3 at theta = 10 lowers that to 3 - transit(6.86) = 0.79. Where one sample sees a turning
-    point before t = 8 (at t = 5) that the others do not, the record there says nothing (the family
-    changes between them), and the switch, whose window (3 +- 2.21) does not reach 8, ends the descent;
-    nor does the record say anything where one sample sees a switch before it that the others do not."""
+    20 (the upright target pi 16.9 rad away on the plane, e = 0.3, swing-up at kappa = 1): an arrival
+    there is at least 5.37 away from that state, so none lies after 8 - 5.37; a switch they all see at
+    t = 3 at theta = 10 lowers that to 3 less its transit. Where one sample sees a turning point before
+    t = 8 (at t = 5) that the others do not, the record there says nothing (the family changes between
+    them), and the switch, whose window does not reach 8, ends the descent; nor does the record say
+    anything where one sample sees a switch before it that the others do not."""
     problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
     e = 0.3
     one = S._transit(problem, 20.0, 20.0, e, e)
-    assert one == pytest.approx(math.sqrt(4 + 2 * (20 - math.pi)) - 2)
+    # the time from that state to the target: Problem.lower_bound's energy bound (above its double
+    # integrator's, 5.27, moving toward the target)
+    omega = -math.sqrt(2 * (e + math.cos(20.0)))
+    assert one == pytest.approx(make("swing-up", 1.0, (20.0, omega), branch=0).lower_bound, rel=1e-12)
 
     def samples(events=({}, {}, {}), switches=True, extra=False):
         out = []
@@ -527,8 +556,8 @@ def test_the_energy_and_the_transit_bounds_each_isolate_extremals_that_reach_a_s
     """Damping from (2.5, -0.3) at kappa = 0.3, a start moving near the upright: without the arcs'
     energies (`_energy_excludes`) and the transit time (`_transit`), the extremals of the family that
     run into a saddle are each isolated to a spacing of 2.6e-9 (308 extremals); either bound alone
-    resolves them at 8.6e-5 (180 extremals with the energies, 152 with the transit, 150 with both), with
-    the same arrivals, every arrival of the brute force among them."""
+    resolves them coarser (180 extremals each, at 8.6e-5 with the energies, 2.7e-6 with the transit;
+    166 with both), with the same arrivals, every arrival of the brute force among them."""
     problem = make("damping", 0.3, (2.5, -0.3))
     both = S.search(problem)
     energy, transit = S._energy_excludes, S._transit
@@ -541,7 +570,7 @@ def test_the_energy_and_the_transit_bounds_each_isolate_extremals_that_reach_a_s
     for found in (both, searches["energy"], searches["transit"]):
         assert found.coverage.complete and neither.coverage.complete
         assert found.coverage.extremals < 0.7 * neither.coverage.extremals
-        assert found.coverage.finest_spacing > 1e4 * neither.coverage.finest_spacing
+        assert found.coverage.finest_spacing > 1e3 * neither.coverage.finest_spacing
         assert [a.T for a in found.arrivals] == pytest.approx([a.T for a in neither.arrivals], rel=1e-12)
     horizon = both.coverage.horizon
     brute = [T for T in brute_force(problem, horizon) if T <= horizon * 0.999]

@@ -211,6 +211,14 @@ HEADROOM = 1.1 * (1 + MARGIN) / (1 - HORIZON_BAND)
 #: from (0, 50) at kappa = 1: 2095 against 3339); on the plane the estimate is not calibrated
 #: (1.2 d / kappa for a target d rad away) and the horizon grows from the lower bound
 HEADROOM_KAPPA = 0.5
+#: the transit bound (`_arrivals_by`) is worked out for an interval a label would split on the first
+#: TRANSIT_TRIALS such intervals of a search, then where it has resolved at least one in TRANSIT_PAYOFF
+#: of those it was tried on, and on every TRANSIT_PROBE-th (`_Payoff`: the standard swing-up at
+#: kappa = 0.75 asks 21 times and it resolves none, 23 % of the search's time; on the slow cases it
+#: resolves one in 3 to 6)
+TRANSIT_TRIALS = 8
+TRANSIT_PAYOFF = 8
+TRANSIT_PROBE = 16
 #: the unresolved and singular intervals kept in a Coverage (all are counted)
 LISTED = 50
 #: seconds between two progress reports
@@ -403,7 +411,7 @@ STATUS_MESSAGES = {
 
 class _Sample:
     """One extremal of the scan, integrated for `duration`: its turning points by label (arc,
-    index in arc) -> (t, theta) in `events` and their derivatives in phi -> (dt/dphi,
+    index in arc) -> (t, theta) in `events` (in time order) and their derivatives in phi -> (dt/dphi,
     dtheta/dphi) in `slopes`, its angular velocity and that's derivative in phi at the end of each
     integration and at its acceptance time, t -> (omega, domega/dphi, e, de/dphi, theta, dtheta/dphi) in
     `ends` (e = omega^2 / 2 - cos(theta), the pendulum's energy without the torque's work), each arc's energy
@@ -458,11 +466,12 @@ class _Sample:
             self.switch_times.append(t + self.duration)
             self.switch_slopes.append(dt)
             torque = _torque(family.kappa, self.u0, j)
-            self.energies[j] = (_energy(theta, omega, torque), omega * domega + (math.sin(theta) - torque) * dtheta)
-            # along the switch: dtheta and domega are at the fixed time just after it
-            dtheta_s, domega_s = dtheta + omega * dt, domega + (torque - math.sin(theta)) * dt
-            self.switch_states.append((theta, dtheta_s, 0.5 * omega * omega - math.cos(theta),
-                                       omega * domega_s + math.sin(theta) * dtheta_s))
+            energy = self.energies[j] = (_energy(theta, omega, torque),
+                                         omega * domega + (math.sin(theta) - torque) * dtheta)
+            # e = E_j + torque theta; along the switch theta moves by dtheta (at the fixed time just after
+            # it) + omega dt_s
+            dtheta_s = dtheta + omega * dt
+            self.switch_states.append((theta, dtheta_s, energy[0] + torque * theta, energy[1] + torque * dtheta_s))
         last = 0
         for t, theta, arc, i, _, _, dtheta, dt in events.tolist():
             label = arcs + int(arc), int(i) + (index if arc == 0 else 0)
@@ -484,14 +493,33 @@ def _motion(y, dy):
             theta, dtheta)
 
 
+class _Payoff:
+    """Whether a costly rule is worth working out where it is asked for: on the first TRANSIT_TRIALS
+    asks, where it has decided at least one in TRANSIT_PAYOFF of its tries, and on every
+    TRANSIT_PROBE-th ask (it may come to pay later)."""
+
+    def __init__(self):
+        self.asked = self.tried = self.decided = 0
+
+    def wanted(self):
+        self.asked += 1
+        return (self.asked <= TRANSIT_TRIALS or self.decided * TRANSIT_PAYOFF >= self.tried
+                or self.asked % TRANSIT_PROBE == 0)
+
+    def record(self, decided):
+        self.tried += 1
+        self.decided += decided
+
+
 class _Family:
     """The extremals from x0 for bound kappa, integrated on demand with their variational equations
-    in phi (`taylor.extremal_variations`)."""
+    in phi (`taylor.extremal_variations`); `transit`: the _Payoff of the transit bound in its scans."""
 
     def __init__(self, x0, kappa):
         self.x0 = (float(x0[0]), float(x0[1]))
         self.kappa = float(kappa)
         self.count = 0
+        self.transit = _Payoff()
         self._switches = np.empty((64, 8))
         self._events = np.empty((256, 8))
         self._y0, self._dy0 = np.array([*self.x0, 0.0, 0.0]), np.zeros(4)
@@ -556,6 +584,18 @@ def _targets(problem, lo, hi):
     return ks if problem.branch is None else [k for k in (problem.branch,) if k in ks]
 
 
+def _gap(problem, lo, hi):
+    """The distance from [lo, hi] to the nearest allowed target angle, 0 if one lies in it (or lo, hi
+    are not finite)."""
+    if not math.isfinite(lo + hi):
+        return 0.0
+    if problem.branch is not None:
+        target = problem.target(problem.branch)[0]
+        return max(lo - target, target - hi, 0.0)
+    below = problem.base + 2 * math.pi * math.floor((hi - problem.base) / (2 * math.pi))   # the last target <= hi
+    return 0.0 if below >= lo else min(lo - below, below + 2 * math.pi - hi)
+
+
 def _distance(problem, theta):
     """Distance from theta to the nearest allowed target angle."""
     k = problem.nearest_branch(theta) if problem.branch is None else problem.branch
@@ -612,20 +652,20 @@ def _energy_excludes(problem, a, m, b, arc, h):
 
 
 def _transit(problem, lo, hi, e_lo, e_hi):
-    """A lower bound of the time from an arrival (a turning point on an allowed target theta*) to a
-    state with theta in [lo, hi] and e = omega^2 / 2 - cos(theta) in [e_lo, e_hi]: along every
-    trajectory F = sqrt(2 (e + 1)) changes at |dF/dt| <= kappa and |omega| <= F (Problem.lower_bound),
-    so from F* = 2 |sin(theta* / 2)| the time is at least |F - F*| / kappa, and a path of length d (the
-    distance of [lo, hi] to the nearest target) at least (sqrt(F*^2 + 2 kappa d) - F*) / kappa."""
-    kappa, f_target = problem.kappa, 2 * abs(math.sin(problem.base / 2))
-    change = 0.0
+    """A lower bound of the time between an arrival (a turning point on an allowed target theta*, where
+    F = F* = 2 |sin(theta* / 2)|) and a state of its trajectory, before or after it, with theta in
+    [lo, hi] and e = omega^2 / 2 - cos(theta) in [e_lo, e_hi]. Along every trajectory F = sqrt(2 (e + 1))
+    = sqrt(omega^2 + 4 sin^2(theta / 2)) changes at |dF/dt| <= kappa and |omega| <= F
+    (Problem.lower_bound): over a time tau from F* to F, tau >= |F - F*| / kappa, and the angle covered
+    is at most kappa tau^2 / 4 + S tau / 2 - (F - F*)^2 / (4 kappa) (S = F + F*), so a distance d to the
+    nearest target takes tau >= (sqrt(S^2 + (F - F*)^2 + 4 kappa d) - S) / kappa. The larger of the two
+    is least over F at sqrt(F*^2 + 2 kappa d) (where they meet), so at that F clamped to the range."""
+    kappa, f_target, d = problem.kappa, 2 * abs(math.sin(problem.base / 2)), _gap(problem, lo, hi)
+    f = math.sqrt(f_target * f_target + 2 * kappa * d)
     if math.isfinite(e_lo + e_hi):
-        f_lo, f_hi = (math.sqrt(2 * max(e + 1, 0.0)) for e in (e_lo, e_hi))
-        change = max(f_lo - f_target, f_target - f_hi, 0.0) / kappa
-    if not math.isfinite(lo + hi) or _targets(problem, lo, hi):
-        return change
-    d = min(_distance(problem, lo), _distance(problem, hi))
-    return max(change, (math.sqrt(f_target * f_target + 2 * kappa * d) - f_target) / kappa)
+        f = min(max(f, math.sqrt(2 * max(e_lo + 1, 0.0))), math.sqrt(2 * max(e_hi + 1, 0.0)))
+    total, change = f + f_target, f - f_target
+    return max(abs(change), math.sqrt(total * total + change * change + 4 * kappa * d) - total) / kappa
 
 
 def _arrivals_by(problem, a, m, b, arrive, h):
@@ -638,17 +678,17 @@ def _arrivals_by(problem, a, m, b, arrive, h):
     per radian). From the latest of those states down, each whose window reaches above the latest time
     left lowers it to the window's start; the first below it whose window does not ends that half's
     descent."""
-    recorded = sorted(a.ends.keys() & m.ends.keys() & b.ends.keys())
-    switch = min(len(s.switch_times) for s in (a, m, b)) - 1
-    # the turning points the three see alike: the first `shared` in time order, then the first that differs
-    orders = [sorted(s.events, key=s.events.get) for s in (a, m, b)]
-    shared = next((i for i, labels in enumerate(zip(*orders)) if not labels[0] == labels[1] == labels[2]),
-                  min(len(o) for o in orders))
-    differ = [s.events[o[shared]][0] if shared < len(o) else math.inf for s, o in zip((a, m, b), orders)]
+    records = sorted(a.ends.keys() & m.ends.keys() & b.ends.keys())
+    record, switch = len(records) - 1, min(len(s.switch_times) for s in (a, m, b)) - 1
+    # the time of each sample's first turning point that the three do not see alike (`events` is in time order)
+    shared = next((i for i, (la, lm, lb) in enumerate(zip(a.events, m.events, b.events)) if not la == lm == lb),
+                  min(len(s.events) for s in (a, m, b)))
+    differ = [next(itertools.islice(s.events.values(), shared, None), (math.inf,))[0] for s in (a, m, b)]
     latest, descending = [arrive, arrive], [True, True]
-    while (descending[0] or descending[1]) and (recorded or switch >= 0):
-        if recorded and (switch < 0 or recorded[-1] >= max(s.switch_times[switch] for s in (a, m, b))):
-            t = recorded.pop()
+    while (descending[0] or descending[1]) and (record >= 0 or switch >= 0):
+        if record >= 0 and (switch < 0 or records[record] >= max(s.switch_times[switch] for s in (a, m, b))):
+            t = records[record]
+            record -= 1
             if not (t < min(differ) and bisect.bisect_right(a.switch_times, t) == bisect.bisect_right(
                     m.switch_times, t) == bisect.bisect_right(b.switch_times, t)):
                 continue
@@ -656,10 +696,11 @@ def _arrivals_by(problem, a, m, b, arrive, h):
             (_, _, ea, dea, xa, dxa), (_, _, em, dem, xm, dxm), (_, _, eb, deb, xb, dxb) = (s.ends[t] for s in (a, m, b))
         else:
             times, t_slopes = [s.switch_times[switch] for s in (a, m, b)], [s.switch_slopes[switch] for s in (a, m, b)]
+            states = [s.switch_states[switch] for s in (a, m, b)]
             switch -= 1
             if not all(t < d for t, d in zip(times, differ)):
                 continue
-            (xa, dxa, ea, dea), (xm, dxm, em, dem), (xb, dxb, eb, deb) = (s.switch_states[switch + 1] for s in (a, m, b))
+            (xa, dxa, ea, dea), (xm, dxm, em, dem), (xb, dxb, eb, deb) = states
         reach_t, reach_x, reach_e = (_reaches(*times, *t_slopes, h), _reaches(xa, xm, xb, dxa, dxm, dxb, h),
                                      _reaches(ea, em, eb, dea, dem, deb, h))
         for half, (t0, t1, x0, x1, e0, e1) in enumerate(((times[0], times[1], xa, xm, ea, em),
@@ -698,7 +739,9 @@ def _curvatures(fa, fm, fb, sa, sm, sb, h):
 def _reaches(fa, fm, fb, sa, sm, sb, h):
     """For each half, how far the function may leave the chord of its end values there:
     M h^2 / 8 with M = CURVATURE * `_curvatures`."""
-    return tuple(CURVATURE * c * h * h / 8 for c in _curvatures(fa, fm, fb, sa, sm, sb, h))
+    left, right = _curvatures(fa, fm, fb, sa, sm, sb, h)
+    scale = CURVATURE * h * h / 8
+    return left * scale, right * scale
 
 
 def _examine(problem, family, a, m, b, accept, extended, arrive=None):
@@ -745,20 +788,21 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         s.omega(family, end) for s in (a, m, b))
     # per half: omega(end, .) has no zero there, or one (monotone), or e(end, .) > 1 there (a rotation:
     # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates)
-    quiet = []
-    for w0, w1, s0, s1, curvature, e0, e1, e_reach in zip(
-            (wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb), _curvatures(wa, wm, wb, dwa, dwm, dwb, h),
-            (ea, em), (em, eb), _reaches(ea, em, eb, dea, dem, deb, h)):
+    quiet, e_reach = [], None
+    for half, w0, w1, s0, s1, curvature, e0, e1 in zip(
+            (0, 1), (wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb), _curvatures(wa, wm, wb, dwa, dwm, dwb, h), (ea, em), (em, eb)):
         bound = CURVATURE * curvature
-        quiet.append(min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
-                     or (s0 * s1 > 0 and abs(s0 + s1) > bound * h)
-                     or min(e0, e1) - e_reach > 1)
+        calm = (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
+                or (s0 * s1 > 0 and abs(s0 + s1) > bound * h))
+        if not calm:
+            e_reach = e_reach or _reaches(ea, em, eb, dea, dem, deb, h)
+            calm = min(e0, e1) - e_reach[half] > 1
+        quiet.append(calm)
     hidden = not (quiet[0] and quiet[1])
-    # the acceptance of each half, `arrive` or earlier: no arrival lies within `_transit` of a state there
-    arrive_by = _arrivals_by(problem, a, m, b, arrive, h)
     # a quiet half whose ends see the same turning points before `end` has no zero of omega(end, .) (one
     # would change them): every phi of it sees those, and a label after `end` at its ends is after it there
-    before = [{label for label, (t, _) in s.events.items() if t <= end} for s in (a, m, b)]
+    before = [{label for label, (t, _) in s.events.items() if t <= end} for s in (a, m, b)] if quiet[0] or quiet[1] \
+        else [(), (), ()]
     settled = (quiet[0] and before[0] == before[1], quiet[1] and before[1] == before[2])
     if hidden and b.phi - a.phi > 2 * MIN_WIDTH and alike:
         # a turning point crossing that time unseen is of the arc running then (it cannot cross a switch):
@@ -771,50 +815,54 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # absent there says nothing of the later ones: `after` is this label's only); so is every label from
     # arc j on where a switch before arc j that a, m and b record is after it on the whole half
     late, common, switched = [False, False], min(len(s.switch_times) for s in (a, m, b)), {}
-    for label in sorted(seen[0] | seen[1] | seen[2]):
-        switch = min(label[0], common) - 1
-        if switch >= 0 and switch not in switched:
-            times, slopes = [s.switch_times[switch] for s in (a, m, b)], [s.switch_slopes[switch] for s in (a, m, b)]
-            reach_s = _reaches(*times, *slopes, h)
-            switched[switch] = (min(times[:2]) - reach_s[0] > arrive_by[0], min(times[1:]) - reach_s[1] > arrive_by[1])
-            late = [late[0] or switched[switch][0], late[1] or switched[switch][1]]
-        if late[0] and late[1]:
-            break
-        after = [settled[half] and label not in before[half] for half in (0, 1)]
+
+    def verdict(label, by):
+        """What `label` asks of [a, b] where arrivals on each half are before `by`: None (nothing),
+        ("split", soonest, nearest approach) or ("found", brackets); `late` updated."""
+        nonlocal late
+        after = (settled[0] and label not in before[0], settled[1] and label not in before[1])
         if (late[0] or after[0]) and (late[1] or after[1]):
-            continue
+            return None
         values = [s.events.get(label) for s in (a, m, b)]
         if None in values:
             for s, v in zip((a, m, b), values):
                 if v is None and s.duration < extended:
                     s.integrate(family, extended)
             values = [s.events.get(label) for s in (a, m, b)]
+            switch = min(label[0], common) - 1
+            if None in values and switch >= 0:      # the switch before its arc: after the acceptance?
+                if (switch, by) not in switched:
+                    times = [s.switch_times[switch] for s in (a, m, b)]
+                    reach_s = _reaches(*times, *(s.switch_slopes[switch] for s in (a, m, b)), h)
+                    switched[switch, by] = (min(times[:2]) - reach_s[0] > by[0], min(times[1:]) - reach_s[1] > by[1])
+                late = [late[0] or switched[switch, by][0], late[1] or switched[switch, by][1]]
+                if late[0] and late[1]:
+                    return None
             if None in values:
-                latest = max(arrive_by)
+                latest = max(by)
                 if min(v[0] for v in values if v is not None) > latest + DIP * (extended / EXTEND - latest) \
                         and not _dips(label, (a, m, b), values, latest):
-                    continue
+                    return None
                 if _energy_excludes(problem, a, m, b, label[0], h):
-                    continue
-                split, soonest = True, min(soonest, *(v[0] for v in values if v is not None))
-                singular = min(singular, *(_distance(problem, v[1]) for v in values if v is not None))
-                continue
+                    return None
+                return ("split", min(v[0] for v in values if v is not None),
+                        min(_distance(problem, v[1]) for v in values if v is not None))
         (ta, tha), (tm, thm), (tb, thb) = values
         (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
-        early = (min(ta, tm) <= arrive_by[0] and not late[0], min(tm, tb) <= arrive_by[1] and not late[1])
+        early = (min(ta, tm) <= by[0] and not late[0], min(tm, tb) <= by[1] and not late[1])
         reach_t = None                      # how far the time may dip below its ends' on each half
         if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
             reach_t = _reaches(ta, tm, tb, dta, dtm, dtb, h)
-            late = [late[0] or min(ta, tm) - reach_t[0] > arrive_by[0], late[1] or min(tm, tb) - reach_t[1] > arrive_by[1]]
+            late = [late[0] or min(ta, tm) - reach_t[0] > by[0], late[1] or min(tm, tb) - reach_t[1] > by[1]]
             early = (not late[0], not late[1])
         early = (early[0] and not after[0], early[1] and not after[1])
         if not (early[0] or early[1]):      # the turning point's time stays after the acceptance
-            continue
+            return None
         bounds = _curvatures(tha, thm, thb, dtha, dthm, dthb, h)
         found, resolved = [], math.isfinite(bounds[0] + bounds[1])
         reach = CURVATURE * max(bounds) * h * h / 8
         if resolved and not _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach):
-            continue                        # no target within reach on either half
+            return None                     # no target within reach on either half
         for half, x0, x1, t0, t1, f0, f1, s0, s1, bound, early_half in (
                 (0, a.phi, m.phi, ta, tm, tha, thm, dtha, dthm, CURVATURE * bounds[0], early[0]),
                 (1, m.phi, b.phi, tm, tb, thm, thb, dthm, dthb, CURVATURE * bounds[1], early[1])):
@@ -833,16 +881,34 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                     reach_t = reach_t or _reaches(ta, tm, tb, dta, dtm, dtb, h)
                     spread = reach_t[half]
                     found.append((x0, x1, label, k, max(t0, t1), (min(t0, t1) - spread, max(t0, t1) + spread)))
-        if not resolved:
-            if _energy_excludes(problem, a, m, b, label[0], h):
-                continue
-            split, soonest = True, min(soonest, ta, tm, tb)
-            # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
-            # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
-            jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
-            singular = min(singular, *(_distance(problem, th) for th in (tha, thm, thb))) if jump else -1.0
+        if resolved:
+            return "found", found
+        if _energy_excludes(problem, a, m, b, label[0], h):
+            return None
+        # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
+        # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
+        jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
+        return "split", min(ta, tm, tb), min(_distance(problem, th) for th in (tha, thm, thb)) if jump else -1.0
+
+    # arrivals on each half are before `arrive`, or (`_arrivals_by`, worked out where a label would split
+    # the interval and, in a scan, its _Payoff says so) before the earlier time the transit from the
+    # states its samples share allows
+    by, payoff = None, family.transit if family is not None else None
+    for label in sorted(seen[0] | seen[1] | seen[2]):
+        if late[0] and late[1]:
+            break
+        outcome = verdict(label, by or (arrive, arrive))
+        if outcome is not None and outcome[0] == "split" and by is None and (payoff is None or payoff.wanted()):
+            by = tuple(_arrivals_by(problem, a, m, b, arrive, h))
+            outcome = verdict(label, by)
+            if payoff is not None:
+                payoff.record(outcome is None or outcome[0] != "split")
+        if outcome is None:
             continue
-        brackets += found
+        if outcome[0] == "found":
+            brackets += outcome[1]
+        else:
+            split, soonest, singular = True, min(soonest, outcome[1]), min(singular, outcome[2])
     if split and b.phi - a.phi > 2 * MIN_WIDTH:
         brackets = []           # found again in the halves
     return split, singular, brackets, soonest

@@ -65,8 +65,10 @@ it cannot cross a switch). Near a saddle theta_s the target's
 level is about |cos(theta_s)| (theta_s - theta*)^2 / 2 from the saddle's (kappa^2 / 2 for the
 upright at small kappa), so an extremal reaching it is isolated to a width of about that over
 |dE_j / dphi|, not to MIN_WIDTH. The residual assumption of completeness is that bound: on every
-half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''|, |e(t_a, .)''|, |theta(t_a, .)''|, |E_j''| and the
-switch times' stay below CURVATURE times their Hermite estimates (omega(t_a, .) and e(t_a, .) have a kink
+half the scan resolved, |theta_label''|, |t_label''|, |omega(t_a, .)''|, |e(t_a, .)''|, |E_j''|, the switch
+times' and (the transit bound, where the samples see the same switches and turning points before)
+those of theta and e at the recorded times and the switches stay below CURVATURE times their
+Hermite estimates (omega(t_a, .) and e(t_a, .) have a kink
 where a switch crosses t_a, their slope jumping by 2 kappa dt_s/dphi, times omega for e: it too), and the time of a label seen by some
 samples only stays above its tangents toward the others (`_dips`). A feature narrower than the half that shows in none of the values
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
@@ -88,8 +90,9 @@ nearest target), so none lies within that of a state bounded on the half (at t_a
 the samples recorded, and at the switches they share, where they see the same switches and turning
 points before it); descending from t_a, each window that reaches the acceptance lowers it (swing-up
 from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296, whose extremals are near the bottom
-65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before; damping from (2.5, -0.3) at
-kappa = 0.1: 9,092 extremals before, 1,514 after). The
+65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before, 49,327 to the optimum after;
+damping from (2.5, -0.3) at kappa = 0.1: 9,092 extremals before, 1,738 after). It is worked out
+where a label would split an interval, while it pays (`_Payoff`). The
 acceptance itself falls as arrivals are bracketed, to the runner-up's latest time (or 1 + margin
 times the best's: `_Acceptance`), so that a fast start, whose turning points cross hundreds of
 targets within 20 % of the best time, solves two of them, not all. When the acceptance falls below
@@ -115,13 +118,14 @@ damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under th
 (at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
 moving start near the upright is still scanned forwards, and may be slow: after a passage near the
 saddle, the later arcs' energies and turning points change by 1e3 to 1e5 per radian of phi, sweeping
-many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 9,236
-extremals, 7 isolated to MIN_WIDTH; 33,040 before the energy bound, which isolates the extremals
-reaching a saddle coarser); so does a fast start braking at small kappa to rest, whose braking ends
-near the separatrix (damping from (0, 25) at kappa = 0.25: 1.0e4 extremals); so does a target many turns away on the plane (swing-up to branch 20 at
-kappa = 0.5: 2.2e4 extremals to the optimum, 1.2e5 more to a runner-up 15 % slower, which the
-search does not pay: the scan for the runner-up integrates at most RUNNER_UP_BUDGET times the
-extremals before it, or RUNNER_UP_FLOOR). A fast start costs in the length of its
+many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 1,738
+extremals; 9,236 before the transit bound, 33,040 before the energy bound too, which isolates the
+extremals reaching a saddle coarser; at kappa = 0.05, 9,409 extremals, and over 85,000 before the
+transit bound); so does a fast start braking at small kappa to rest, whose braking ends near the
+separatrix (damping from (0, 25) at kappa = 0.25: 5.4e3 extremals); so does a target many turns
+away on the plane (swing-up to branch 20 at kappa = 0.5: 1.8e3 extremals to the optimum, 5.3e3
+more to a runner-up 15 % slower, which the search does not pay: the scan for the runner-up
+integrates at most RUNNER_UP_BUDGET times the extremals before it, or RUNNER_UP_FLOOR). A fast start costs in the length of its
 extremals more than in their number, where kappa is small: swing-up from (0, 50), 367 extremals at
 kappa = 1 (T = 49), 690 of length 500 to 800 at kappa = 0.1 (T = 489), 776 at kappa = 0.05
 (T = 976). `time_limit` ends a scan with the best arrival so far (status "stopped", not proven
@@ -182,16 +186,17 @@ JUMP = 1.0
 #: a scan whose acceptance falls below this fraction of its own goes on with that acceptance's
 #: horizon (new extremals integrated to it, omega checked at the acceptance): a check at a time far
 #: past the acceptance sees turning points that cannot be arrivals (damping from (0, 25) at kappa =
-#: 0.25: 23,890 extremals at 0.9, 10,717 at 0.97, 10,483 with `_accepting`; an extremal sampled before the fall may be
-#: integrated again, to the new acceptance, where its neighbours were sampled after: 0.7 % more on
-#: the standard and random states of the fingerprint set)
+#: 0.25, before the transit bound: 23,890 extremals at 0.9, 10,717 at 0.97, 10,483 with
+#: `_accepting`; an extremal sampled before the fall may be integrated again, to the new acceptance,
+#: where its neighbours were sampled after: 0.7 % more on the standard and random states of the
+#: fingerprint set)
 RESCAN = 0.97
 #: the scan extends to the best arrival time times (1 + MARGIN), to report the runner-up
 MARGIN = 0.2
 #: ... integrating at most this many times the extremals of the scans before it (the optimum's), or
 #: RUNNER_UP_FLOOR if more; past that, the search reports the optimum without a runner-up (swing-up
-#: to branch 20 at kappa = 0.5: 2.2e4 extremals to the optimum, 1.2e5 more to a runner-up 15 %
-#: slower; the standard swing-up at kappa = 0.05: 61, then 153 more)
+#: to branch 20 at kappa = 0.5: 1.8e3 extremals to the optimum, 5.3e3 more to a runner-up 15 %
+#: slower; the standard swing-up at kappa = 0.05: 61, then 96 more)
 RUNNER_UP_BUDGET = 1.0
 RUNNER_UP_FLOOR = 2000
 #: the horizon grows by this factor while no arrival is found, up to the larger of MAX_HORIZON and
@@ -314,8 +319,9 @@ class Coverage:
                 f"{len(self.intervals)} admissible interval{'s' if len(self.intervals) != 1 else ''}, "
                 f"finest spacing {self.finest_spacing:.1e} rad, every arrival before t = {self.horizon:.4g} "
                 f"(assumed: between two samples, the second derivatives in phi of a turning point's angle and time, "
-                f"of omega, theta and omega^2 / 2 - cos(theta) at t = {self.horizon:.4g}, of an arc's energy and of a "
-                f"switch's time stay below {CURVATURE:g} x "
+                f"of omega and omega^2 / 2 - cos(theta) at t = {self.horizon:.4g}, of an arc's energy, of a "
+                f"switch's time and of the angle and e at the switches and recorded times the samples share "
+                f"stay below {CURVATURE:g} x "
                 f"their cubic Hermite estimates from the samples' values and slopes, and the time of a turning point "
                 f"seen by some samples only stays above its tangents toward the others)")
         if self.stopped:

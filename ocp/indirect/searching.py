@@ -361,12 +361,13 @@ class Progress:
 
 class _Clock:
     """The time limit (seconds, None: none), the `budget` of extremals (the runner-up's scan's) and the
-    progress reports (every PROGRESS_EVERY s) of a search."""
+    progress reports (every PROGRESS_EVERY s) of a search; `stopped`: why it ended the search, "the
+    time limit" or "the budget", or None."""
 
     def __init__(self, time_limit, progress):
         self.begun = time.perf_counter()
         self.limit, self.progress, self.budget = time_limit, progress, math.inf
-        self.due, self.stopped, self.best = 0.0, False, math.nan
+        self.due, self.stopped, self.best = 0.0, None, math.nan
 
     def tick(self, horizon, u0, phi, extremals, arrivals):
         """Whether the time limit has passed or the budget is spent; reports the progress when one is due."""
@@ -374,8 +375,11 @@ class _Clock:
         if self.progress is not None and elapsed >= self.due:
             self.due = elapsed + PROGRESS_EVERY
             self.progress(Progress(elapsed, horizon, u0, phi, extremals, arrivals, self.best))
-        self.stopped = self.stopped or (self.limit is not None and elapsed > self.limit) or extremals > self.budget
-        return self.stopped
+        if self.stopped is None and self.limit is not None and elapsed > self.limit:
+            self.stopped = "the time limit"
+        elif self.stopped is None and extremals > self.budget:
+            self.stopped = "the budget"
+        return self.stopped is not None
 
 
 @dataclass(frozen=True)
@@ -1228,7 +1232,7 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
     reading = ("backwards" if original is not None else "forwards") + (" + mirror" if halves == 1 else "")
     coverage = Coverage(arrive, tuple(intervals), family.count, finest, tuple(unresolved[:LISTED]),
                         tuple(singular[:LISTED]), time.perf_counter() - start, "scan", len(unresolved),
-                        len(singular), clock.stopped, reading)
+                        len(singular), clock.stopped is not None, reading)
     return arrivals, coverage
 
 
@@ -1319,7 +1323,7 @@ def search(problem, horizon=None, margin=MARGIN, time_limit=None, progress=None,
         arrivals, coverage = scan(scanned, horizon, original, clock, halves, family, margin, floor)
         if clock.stopped:
             if done is not None:        # the previous scan was complete: only the runner-up's extension was cut
-                cut = f"its budget ({clock.budget:.0f} extremals in all)" if family.count > clock.budget else "the time limit"
+                cut = f"its budget ({clock.budget:.0f} extremals in all)" if clock.stopped == "the budget" else "the time limit"
                 return Search(*done, tuple(notes + [f"{cut} cut the scan for the runner-up: none reported"]))
             return Search(tuple(arrivals), coverage, tuple(notes + [f"stopped by the time limit ({time_limit:g} s)"]))
         if arrivals:

@@ -310,7 +310,8 @@ def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_
     t = 3 at theta = 10 lowers that to 3 less its transit. Where one sample sees a turning point before
     t = 8 (at t = 5) that the others do not, the record there says nothing (the family changes between
     them), and the switch, whose window does not reach 8, ends the descent; nor does the record say
-    anything where one sample sees a switch before it that the others do not."""
+    anything where one sample sees a switch before it that the others do not. A turning point all
+    three see is a state too: at theta = 40 (36.9 rad from the target), its window lowers the record's."""
     problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
     e = 0.3
     one = S._transit(problem, 20.0, 20.0, e, e)
@@ -334,6 +335,11 @@ def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == pytest.approx([3.0 - S._transit(problem, 10.0, 10.0, e, e)] * 2)
     a, m, b = samples(events=({}, {}, {(1, 0): (5.0, 12.0, 0.0, 0.0)}))
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
+    # a turning point all three see, at t = 6 on theta = 40 (e = -cos(40)), is a state of the extremal too
+    turning = {(1, 0): (6.0, 40.0, 0.0, 0.0)}
+    a, m, b = samples(events=(turning, turning, turning), switches=False)
+    assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == pytest.approx(
+        [6.0 - S._transit(problem, 40.0, 40.0, -math.cos(40.0), -math.cos(40.0))] * 2)
     a, m, b = samples(switches=False, extra=True)
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
 

@@ -219,9 +219,9 @@ HEADROOM_KAPPA = 0.5
 #: the transit bound (`_arrivals_by`) is worked out for an interval a label would split on the first
 #: TRANSIT_TRIALS such intervals of a search, then where it has resolved at least one in TRANSIT_PAYOFF
 #: of those it was tried on, and on every TRANSIT_PROBE-th (`_Payoff`: the standard swing-up at
-#: kappa = 0.75 asks 21 times and it resolves none, 23 % of the search's time; on the slow cases it
-#: resolves one in 3 to 6)
-TRANSIT_TRIALS = 8
+#: kappa = 0.75 asks 21 times and it resolves none: tried on all, 23 % of the search's time, on 5
+#: of them, 6 %; on the slow cases it resolves one in 3 to 6)
+TRANSIT_TRIALS = 4
 TRANSIT_PAYOFF = 8
 TRANSIT_PROBE = 16
 #: the unresolved and singular intervals kept in a Coverage (all are counted)
@@ -681,36 +681,45 @@ def _transit(problem, lo, hi, e_lo, e_hi):
 def _arrivals_by(problem, a, m, b, arrive, h):
     """For each half of [a.phi, b.phi] (width h), the latest time an arrival may have there, `arrive` or
     earlier. An arrival at T is `_transit` away from every state of its extremal: none is within that
-    of a state bounded on the half (at a time a, m and b recorded, `_Sample.ends`, or at a switch they
-    all see: its time, angle and e bounded by their values and slopes, `_reaches`), where the three see
-    the same switches and turning points before it (where they do not, the family changes between them
-    in ways their values and slopes need not show: an abnormal end's switches, moving by thousands
-    per radian). From the latest of those states down, each whose window reaches above the latest time
-    left lowers it to the window's start; the first below it whose window does not ends that half's
-    descent."""
-    records = sorted(a.ends.keys() & m.ends.keys() & b.ends.keys())
-    record, switch = len(records) - 1, min(len(s.switch_times) for s in (a, m, b)) - 1
-    # the time of each sample's first turning point that the three do not see alike (`events` is in time order)
+    of a state bounded on the half (at a time a, m and b recorded, `_Sample.ends`, or at a switch or a
+    turning point they all see: its time, angle and e bounded by their values and slopes, `_reaches`),
+    where the three see the same switches and turning points before it (where they do not, the family
+    changes between them in ways their values and slopes need not show: an abnormal end's switches,
+    moving by thousands per radian). From the latest of those states down, each whose window reaches
+    above the latest time left lowers it to the window's start; the first record or switch below it
+    whose window does not ends that half's descent (a turning point does not: near a target its window
+    is small, and the switch before it may reach far)."""
+    samples = (a, m, b)
+    # the turning points the three see alike, the first `shared` (`events` is in time order), and the
+    # time of each sample's first that they do not
     shared = next((i for i, (la, lm, lb) in enumerate(zip(a.events, m.events, b.events)) if not la == lm == lb),
-                  min(len(s.events) for s in (a, m, b)))
-    differ = [next(itertools.islice(s.events.values(), shared, None), (math.inf,))[0] for s in (a, m, b)]
+                  min(len(s.events) for s in samples))
+    turning = [list(itertools.islice(s.events, shared + 1)) for s in samples]
+    differ = [s.events[labels[shared]][0] if shared < len(labels) else math.inf for s, labels in zip(samples, turning)]
+
+    def recorded():
+        for t in sorted(a.ends.keys() & m.ends.keys() & b.ends.keys(), reverse=True):
+            if t < min(differ) and bisect.bisect_right(a.switch_times, t) == bisect.bisect_right(
+                    m.switch_times, t) == bisect.bisect_right(b.switch_times, t):
+                yield t, (t, t, t), (0.0, 0.0, 0.0), [s.ends[t][4:] + s.ends[t][2:4] for s in samples], True
+
+    def switched():
+        for k in range(min(len(s.switch_times) for s in samples) - 1, -1, -1):
+            times = [s.switch_times[k] for s in samples]
+            if all(t < d for t, d in zip(times, differ)):
+                yield max(times), times, [s.switch_slopes[k] for s in samples], [s.switch_states[k] for s in samples], True
+
+    def turned():
+        for label in reversed(turning[0][:shared]):
+            (ta, xa), (tm, xm), (tb, xb) = (s.events[label] for s in samples)
+            (dta, dxa), (dtm, dxm), (dtb, dxb) = (s.slopes[label] for s in samples)
+            yield max(ta, tm, tb), (ta, tm, tb), (dta, dtm, dtb), [
+                (x, dx, -math.cos(x), math.sin(x) * dx) for x, dx in ((xa, dxa), (xm, dxm), (xb, dxb))], False
+
     latest, descending = [arrive, arrive], [True, True]
-    while (descending[0] or descending[1]) and (record >= 0 or switch >= 0):
-        if record >= 0 and (switch < 0 or records[record] >= max(s.switch_times[switch] for s in (a, m, b))):
-            t = records[record]
-            record -= 1
-            if not (t < min(differ) and bisect.bisect_right(a.switch_times, t) == bisect.bisect_right(
-                    m.switch_times, t) == bisect.bisect_right(b.switch_times, t)):
-                continue
-            times, t_slopes = (t, t, t), (0.0, 0.0, 0.0)
-            (_, _, ea, dea, xa, dxa), (_, _, em, dem, xm, dxm), (_, _, eb, deb, xb, dxb) = (s.ends[t] for s in (a, m, b))
-        else:
-            times, t_slopes = [s.switch_times[switch] for s in (a, m, b)], [s.switch_slopes[switch] for s in (a, m, b)]
-            states = [s.switch_states[switch] for s in (a, m, b)]
-            switch -= 1
-            if not all(t < d for t, d in zip(times, differ)):
-                continue
-            (xa, dxa, ea, dea), (xm, dxm, em, dem), (xb, dxb, eb, deb) = states
+    for _, times, t_slopes, states, ends in heapq.merge(recorded(), switched(), turned(), key=lambda p: p[0],
+                                                        reverse=True):
+        (xa, dxa, ea, dea), (xm, dxm, em, dem), (xb, dxb, eb, deb) = states
         reach_t, reach_x, reach_e = (_reaches(*times, *t_slopes, h), _reaches(xa, xm, xb, dxa, dxm, dxb, h),
                                      _reaches(ea, em, eb, dea, dem, deb, h))
         for half, (t0, t1, x0, x1, e0, e1) in enumerate(((times[0], times[1], xa, xm, ea, em),
@@ -722,8 +731,10 @@ def _arrivals_by(problem, a, m, b, arrive, h):
                                min(e0, e1) - reach_e[half], max(e0, e1) + reach_e[half])
             if first + transit > latest[half]:
                 latest[half] = min(latest[half], last - transit)
-            elif last <= latest[half]:
+            elif last <= latest[half] and ends:
                 descending[half] = False
+        if not (descending[0] or descending[1]):
+            break
     return latest
 
 

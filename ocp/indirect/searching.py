@@ -90,8 +90,8 @@ nearest target), so none lies within that of a state bounded on the half (at t_a
 the samples recorded, and at the switches they share, where they see the same switches and turning
 points before it); descending from t_a, each window that reaches the acceptance lowers it (swing-up
 from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296, whose extremals are near the bottom
-65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before, 49,327 to the optimum after;
-damping from (2.5, -0.3) at kappa = 0.1: 9,092 extremals before, 1,738 after). It is worked out
+65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before, 46,060 to the optimum after;
+damping from (2.5, -0.3) at kappa = 0.1: 9,092 extremals before, 1,648 after). It is worked out
 where a label would split an interval, while it pays (`_Payoff`). The
 acceptance itself falls as arrivals are bracketed, to the runner-up's latest time (or 1 + margin
 times the best's: `_Acceptance`), so that a fast start, whose turning points cross hundreds of
@@ -118,12 +118,12 @@ damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under th
 (at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
 moving start near the upright is still scanned forwards, and may be slow: after a passage near the
 saddle, the later arcs' energies and turning points change by 1e3 to 1e5 per radian of phi, sweeping
-many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 1,738
+many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 1,648
 extremals; 9,236 before the transit bound, 33,040 before the energy bound too, which isolates the
-extremals reaching a saddle coarser; at kappa = 0.05, 9,409 extremals, and over 85,000 before the
+extremals reaching a saddle coarser; at kappa = 0.05, 8,983 extremals, and over 85,000 before the
 transit bound); so does a fast start braking at small kappa to rest, whose braking ends near the
-separatrix (damping from (0, 25) at kappa = 0.25: 5.4e3 extremals); so does a target many turns
-away on the plane (swing-up to branch 20 at kappa = 0.5: 1.8e3 extremals to the optimum, 5.3e3
+separatrix (damping from (0, 25) at kappa = 0.25: 5.3e3 extremals); so does a target many turns
+away on the plane (swing-up to branch 20 at kappa = 0.5: 1.2e3 extremals to the optimum, 3.9e3
 more to a runner-up 15 % slower, which the search does not pay: the scan for the runner-up
 integrates at most RUNNER_UP_BUDGET times the extremals before it, or RUNNER_UP_FLOOR). A fast start costs in the length of its
 extremals more than in their number, where kappa is small: swing-up from (0, 50), 367 extremals at
@@ -195,7 +195,7 @@ RESCAN = 0.97
 MARGIN = 0.2
 #: ... integrating at most this many times the extremals of the scans before it (the optimum's), or
 #: RUNNER_UP_FLOOR if more; past that, the search reports the optimum without a runner-up (swing-up
-#: to branch 20 at kappa = 0.5: 1.8e3 extremals to the optimum, 5.3e3 more to a runner-up 15 %
+#: to branch 20 at kappa = 0.5: 1.2e3 extremals to the optimum, 3.9e3 more to a runner-up 15 %
 #: slower; the standard swing-up at kappa = 0.05: 61, then 96 more)
 RUNNER_UP_BUDGET = 1.0
 RUNNER_UP_FLOOR = 2000

@@ -375,10 +375,11 @@ class _Clock:
         if self.progress is not None and elapsed >= self.due:
             self.due = elapsed + PROGRESS_EVERY
             self.progress(Progress(elapsed, horizon, u0, phi, extremals, arrivals, self.best))
-        if self.stopped is None and self.limit is not None and elapsed > self.limit:
-            self.stopped = "the time limit"
-        elif self.stopped is None and extremals > self.budget:
-            self.stopped = "the budget"
+        if self.stopped is None:
+            if self.limit is not None and elapsed > self.limit:
+                self.stopped = "the time limit"
+            elif extremals > self.budget:
+                self.stopped = "the budget"
         return self.stopped is not None
 
 
@@ -499,8 +500,7 @@ def _motion(y, dy):
     """(omega, domega/dphi, e, de/dphi, theta, dtheta/dphi) of the state y and its variation dy:
     e = omega^2 / 2 - cos(theta) > 1 only where omega != 0."""
     (theta, omega, _, _), (dtheta, domega, _, _) = y.tolist(), dy.tolist()
-    return (omega, domega, 0.5 * omega * omega - math.cos(theta), omega * domega + math.sin(theta) * dtheta,
-            theta, dtheta)
+    return omega, domega, _energy(theta, omega, 0.0), omega * domega + math.sin(theta) * dtheta, theta, dtheta
 
 
 class _Payoff:
@@ -694,8 +694,8 @@ def _arrivals_by(problem, a, m, b, arrive, h):
     # time of each sample's first that they do not
     shared = next((i for i, (la, lm, lb) in enumerate(zip(a.events, m.events, b.events)) if not la == lm == lb),
                   min(len(s.events) for s in samples))
-    turning = [list(itertools.islice(s.events, shared + 1)) for s in samples]
-    differ = [s.events[labels[shared]][0] if shared < len(labels) else math.inf for s, labels in zip(samples, turning)]
+    alike = list(itertools.islice(a.events, shared))
+    differ = [next(itertools.islice(s.events.values(), shared, None), (math.inf,))[0] for s in samples]
 
     def recorded():
         for t in sorted(a.ends.keys() & m.ends.keys() & b.ends.keys(), reverse=True):
@@ -710,7 +710,7 @@ def _arrivals_by(problem, a, m, b, arrive, h):
                 yield max(times), times, [s.switch_slopes[k] for s in samples], [s.switch_states[k] for s in samples], True
 
     def turned():
-        for label in reversed(turning[0][:shared]):
+        for label in reversed(alike):
             (ta, xa), (tm, xm), (tb, xb) = (s.events[label] for s in samples)
             (dta, dxa), (dtm, dxm), (dtb, dxb) = (s.slopes[label] for s in samples)
             yield max(ta, tm, tb), (ta, tm, tb), (dta, dtm, dtb), [

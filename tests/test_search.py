@@ -239,18 +239,19 @@ def test_the_recorded_energy_at_the_acceptance_is_its_definition_and_its_slope_t
 @pytest.mark.parametrize("x0, kappa, phi, u0", [((0.0, 5.0), 0.1, 0.6, 1), ((2.5, -0.3), 0.3, 2.0, 1)])
 def test_the_recorded_switch_states_are_the_state_at_the_switch_and_their_slopes_the_difference_quotients(x0, kappa,
                                                                                                           phi, u0):
-    """_Sample.switch_states: (theta, dtheta/dphi, e, de/dphi) at each switch, the slopes along the
-    switch (the state at t_s(phi)), against central differences in phi of the samples beside it."""
+    """_Sample.switch_states: (theta, dtheta/dphi, e, de/dphi) at each switch, theta and e against an
+    integration to the switch's time, the slopes along the switch (the state at t_s(phi)) against
+    central differences in phi of the samples beside it."""
     family = S._Family(x0, kappa)
     sample, h = S._Sample(family, phi, u0, 30.0), 1e-6
     after, before = S._Sample(family, phi + h, u0, 30.0), S._Sample(family, phi - h, u0, 30.0)
     assert len(sample.switch_states) == len(sample.switch_times) >= 1
-    for k, (theta, dtheta, e, de) in enumerate(sample.switch_states[:len(before.switch_states)]):
+    for k, (_, dtheta, _, de) in enumerate(sample.switch_states[:len(before.switch_states)]):
         assert dtheta == pytest.approx((after.switch_states[k][0] - before.switch_states[k][0]) / (2 * h), rel=1e-4, abs=1e-5)
         assert de == pytest.approx((after.switch_states[k][2] - before.switch_states[k][2]) / (2 * h), rel=1e-4, abs=1e-5)
-    for t, (theta, omega) in zip(sample.switch_times, [(s[0], None) for s in sample.switch_states]):
+    for t, (theta, _, e, _) in zip(sample.switch_times, sample.switch_states):
         _, _, _, _, (y, _, _), _ = family.run(phi, u0, t, taylor.SCAN)
-        assert theta == pytest.approx(float(y[0]), abs=1e-7)
+        assert (theta, e) == pytest.approx((float(y[0]), 0.5 * float(y[1]) ** 2 - math.cos(float(y[0]))), abs=1e-7)
 
 
 @pytest.mark.parametrize("kind, kappa", [("swing-up", 0.3), ("damping", 0.3), ("damping", 2.0), ("swing-up", 0.05)])

@@ -345,6 +345,30 @@ def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
 
 
+@pytest.mark.parametrize("theta, descent_ends, split", [(25.0, 3.0, False), (math.pi + 0.3, 8.0, True)])
+def test_a_half_whose_arrivals_would_precede_the_least_time_from_the_start_holds_none(theta, descent_ends, split):
+    """Swing-up at kappa = 1 from rest to branch 0 (pi) on the plane: no arrival before
+    Problem.lower_bound = 2.54. Samples that share a switch at t = 3 and a record at t = 8 (the
+    acceptance), both at `theta` with e = 0.3, and see a turning point at t = 5 whose time and angle
+    their values and slopes leave unbounded (slopes -100, 0, 100; an excursion of its angle through
+    pi). 25 rad from the target, the transit (6.3) puts every arrival of each half before
+    3 - 6.3 < 2.54: none, the interval resolved; 0.3 rad from it, the transit (0.4) leaves 8 - 0.4
+    (the switch's window does not reach that: the descent ends there) and the turning point splits
+    the interval."""
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
+    e = 0.3
+    events = [{(1, 0): (t, th, dt, dth)} for t, th, dt, dth in ((5.0, 3.0, -100.0, 1.0), (5.5, 3.3, 0.0, -20.0),
+                                                               (5.0, 3.0, 100.0, 1.0))]
+    a, m, b = (fake_sample(phi, None, 0.0, (0.5, 0.0, e, 0.0, theta, 0.0), events=ev, switches=((3.0, 0.0),))
+               for phi, ev in zip((0.0, 0.1, 0.2), events))
+    for sample in (a, m, b):
+        sample.switch_states = [(theta, 0.0, e, 0.0)]
+    least, by = problem.lower_bound, S._arrivals_by(problem, a, m, b, 8.0, 0.1)
+    assert (max(by) < least) == (not split)
+    assert by == pytest.approx([descent_ends - S._transit(problem, theta, theta, e, e)] * 2)
+    assert S._examine(problem, None, a, m, b, 8.0, 15.0)[0] == split
+
+
 def test_a_label_absent_at_both_ends_of_a_settled_half_leaves_the_later_labels_to_be_examined():
     """Review of 5c1e2b7 (its construction): half [0, 0.1] is settled (omega at t = 8 has no zero
     there, a and m see J = (0, 0) and K = (2, 0) before t = 8). L = (1, 0), seen at b only, is absent

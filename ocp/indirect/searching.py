@@ -91,7 +91,11 @@ the samples recorded, and at the switches they share, where they see the same sw
 points before it); descending from t_a, each window that reaches the acceptance lowers it (swing-up
 from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296, whose extremals are near the bottom
 65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before, 46,060 to the optimum after;
-damping from (2.5, -0.3) at kappa = 0.1: 9,092 extremals before, 1,648 after). It is worked out
+damping from (2.5, -0.3) at kappa = 0.1: 9,092 extremals before, 1,648 after), and a half whose
+acceptance falls below the least time from the start (Problem.lower_bound: the transit from x0)
+holds no arrival (swing-up to branch 158 on the plane at kappa = 0.05, 996 rad away, whose extremals
+mix near the bottom and the top for a long time: the scan to t_a = 297 stopped at 60 s with 20,727
+extremals before, complete with 4,570 after). It is worked out
 where a label would split an interval, while it pays (`_Payoff`). The
 acceptance itself falls as arrivals are bracketed, to the runner-up's latest time (or 1 + margin
 times the best's: `_Acceptance`), so that a fast start, whose turning points cross hundreds of
@@ -921,6 +925,9 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         outcome = verdict(label, by or (arrive, arrive))
         if outcome is not None and outcome[0] == "split" and by is None and (payoff is None or payoff.wanted()):
             by = tuple(_arrivals_by(problem, a, m, b, arrive, h))
+            # a half whose arrivals would be before the least time from the start holds none
+            least = problem.lower_bound
+            late = [late[0] or by[0] < least, late[1] or by[1] < least]
             outcome = verdict(label, by)
             if payoff is not None:
                 payoff.record(outcome is None or outcome[0] != "split")

@@ -439,17 +439,21 @@ def test_a_start_at_rest_on_an_equilibrium_of_one_control_scans_the_other_half_o
 
 
 def test_a_sign_change_at_a_jump_of_a_turning_point_is_not_a_root():
-    # the first state of JUMPS forwards, u0 = -1: within 1e-8 of the interval's end the extremal is
-    # nearly abnormal, a switch and a turning point swap order and label (3, 0) jumps from one turning
-    # point (theta = 0.757) to the next (-0.205) across the target 0 without crossing it
-    problem = JUMPS[0]
+    """Damping at kappa = 0.33113 from (0.0292, 1.3396) to branch 1 (benchmarks/search_residual.py, seed
+    54002), u0 = -1: between phi = 6.27781 and 6.27900 the turning point (5, 0) runs into a saddle at
+    phi = 6.27796117905 (its time grows without bound there, logarithmically: 34 at 1.5e-10 rad below,
+    40.5 at 2e-8 above, against 27.1 and 29.9 at the ends), and its angle jumps from theta* + 2.8 to
+    theta* - 1.2: from theta* + 3.39 at one end to theta* - 1.94 at the other without crossing the
+    target, a sign change that is no root."""
+    problem = make("damping", 0.331130639498098, (0.029206067860419793, 1.3396123668277085), 1)
+    target = problem.target(1)[0]
     family = S._Family(problem.x0, problem.kappa)
-    lo, hi, u0 = S.admissible_intervals(problem.x0, problem.kappa)[-1]
-    grid = np.linspace(lo + S.END_OFFSET, hi - S.END_OFFSET, BRUTE)
-    a, b = (family.sample(phi, u0, 18.4) for phi in grid[:2])
-    (t0, th0), (t1, th1) = a.events[(3, 0)], b.events[(3, 0)]
-    assert th0 > 0.5 and th1 < -0.1              # the sign change
-    assert S._root(family, problem, u0, (3, 0), 0, grid[0], grid[1], max(t0, t1), taylor.CHECK) is None
+    a, below, above, b = (family.sample(phi, -1, 45.0) for phi in (6.27781, 6.2779611789, 6.2779612, 6.279003333333334))
+    (t0, th0), (t1, th1) = a.events[(5, 0)], b.events[(5, 0)]
+    assert th0 - target > 3 and th1 - target < -1.5     # the sign change
+    (tb, thb), (ta, tha) = below.events[(5, 0)], above.events[(5, 0)]
+    assert min(tb, ta) > 33 and max(t0, t1) < 30 and thb - target > 2.5 and tha - target < -1    # the jump, at the saddle
+    assert S._root(family, problem, -1, (5, 0), 1, a.phi, b.phi, max(t0, t1), taylor.CHECK) is None
 
 
 def test_a_bracket_whose_root_is_not_found_leaves_the_search_incomplete(monkeypatch):

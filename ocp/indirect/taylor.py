@@ -38,7 +38,7 @@ from . import _taylor
 SUBSTEPS = _taylor.SUBSTEPS
 #: (tol, order) of the scan, of the precise solution, and of the checks that estimate its error
 #: (CHECK: a lower accuracy; PRECISE_ALT: as accurate, another order and step, another rounding)
-SCAN = (1e-9, 11)
+SCAN = (1e-9, 14)
 PRECISE = (1e-16, 20)
 PRECISE_ALT = (3e-17, 24)
 CHECK = (1e-12, 16)

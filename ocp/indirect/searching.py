@@ -122,17 +122,18 @@ damping from (pi, 0) at kappa = 0.05, 2e3 backwards). A start symmetric under th
 (at rest on a multiple of pi, the circle) is scanned over one half-circle, the other mirrored. A
 moving start near the upright is still scanned forwards, and may be slow: after a passage near the
 saddle, the later arcs' energies and turning points change by 1e3 to 1e5 per radian of phi, sweeping
-many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 1,648
+many targets' levels, which the scan resolves (damping from (2.5, -0.3) at kappa = 0.1: 1,503
 extremals; 9,236 before the transit bound, 33,040 before the energy bound too, which isolates the
-extremals reaching a saddle coarser; at kappa = 0.05, 8,983 extremals, and over 85,000 before the
+extremals reaching a saddle coarser; at kappa = 0.05, 7,711 extremals, and over 85,000 before the
 transit bound); so does a fast start braking at small kappa to rest, whose braking ends near the
-separatrix (damping from (0, 25) at kappa = 0.25: 5.3e3 extremals); so does a target many turns
+separatrix (damping from (0, 25) at kappa = 0.25: 5.2e3 extremals); so does a target many turns
 away on the plane (swing-up to branch 20 at kappa = 0.5: 1.2e3 extremals to the optimum, 3.9e3
 more to a runner-up 15 % slower, which the search does not pay: the scan for the runner-up
 integrates at most RUNNER_UP_BUDGET times the extremals before it, or RUNNER_UP_FLOOR). A fast start costs in the length of its
-extremals more than in their number, where kappa is small: swing-up from (0, 50), 367 extremals at
-kappa = 1 (T = 49), 690 of length 500 to 800 at kappa = 0.1 (T = 489), 776 at kappa = 0.05
-(T = 976). `time_limit` ends a scan with the best arrival so far (status "stopped", not proven
+extremals more than in their number, where kappa is small: swing-up from (0, 50), 369 extremals at
+kappa = 1 (T = 49), 733 of length 500 to 800 at kappa = 0.1 (T = 489), 773 at kappa = 0.05
+(T = 976: the family brakes to the upright together, its first turning points within 1 % of T, and
+each target their angle sweeps is a tooth of their time, ended by an extremal reaching the saddle). `time_limit` ends a scan with the best arrival so far (status "stopped", not proven
 optimal).
 """
 

@@ -1,6 +1,7 @@
 """The search's cost against the answer, before and after a change, side by side in one run.
 
     python benchmarks/search_cost.py [--before REV] [--time-limit S] [--repeats R] [--only WORD]
+                                     [--random N [--seed S]]
 
 For each case of CASES (both problems from their standard starts for kappa 0.05 to 10, moving starts
 near the upright, fast starts down to kappa = 0.05 (to rest at the bottom and to a branch of the plane
@@ -10,7 +11,10 @@ machine is shared, CPU time is what the search costs), the extremals it integrat
 T and the switch count. With --before REV the same cases are run, in a subprocess, by the code of
 the git revision REV (exported to a temporary folder and built there, its compiled kernels too), case by case in turn with this code (the
 two sides share the machine's load), and the table shows both and their ratio. A search still
-running at --time-limit seconds (wall) stops there: status "stopped".
+running at --time-limit seconds (wall) stops there: status "stopped". With --random N the cases are
+instead N fast starts drawn by `random_cases` (seeded), the part of the accepted range where the
+search is slowest, and a last line counts those over SLOW CPU seconds (issue 22 asks for every
+accepted input within 10 s) and those stopped.
 """
 
 import argparse
@@ -35,6 +39,26 @@ CASES = ([("swing-up", k, (0.0, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 
             ("damping", 0.2, (1.0, -4.0), 2), ("damping", 8.0, (1.0, 2.0), 0), ("swing-up", 0.2, (0.0, 0.0), -1),
             ("damping", 0.25, (0.0, 25.0), None), ("swing-up", 0.3, (-1.0, 14.0), -2),
             ("swing-up", 0.2956, (-1.411, 8.03), -2), ("swing-up", 0.2693, (2.22, 20.08), 2)])
+
+#: CPU seconds past which a case counts as slow (the goal of issue 22)
+SLOW = 10.0
+
+
+def random_cases(n, seed):
+    """n fast starts (kind, kappa, x0, branch): the kind either, kappa log-uniform in [0.1, 3], theta0
+    uniform in [-pi, pi], |omega0| uniform in [5, 30] of either sign, the circle or (half of them) a
+    plane branch in -2..2."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    cases = []
+    for _ in range(n):
+        kind = str(rng.choice(["swing-up", "damping"]))
+        kappa = float(10 ** rng.uniform(-1, math.log10(3)))
+        x0 = (float(rng.uniform(-math.pi, math.pi)), float(rng.uniform(5, 30) * rng.choice([-1, 1])))
+        cases.append((kind, round(kappa, 4), (round(x0[0], 3), round(x0[1], 2)),
+                      None if rng.random() < 0.5 else int(rng.integers(-2, 3))))
+    return cases
 
 
 def measure(cases, repeats, limit):
@@ -65,6 +89,8 @@ def worker(tree, args):
     command = [sys.executable, __file__, "--worker", "--repeats", str(args.repeats), "--time-limit", str(args.time_limit)]
     if args.only:
         command += ["--only", args.only]
+    if args.random:
+        command += ["--random", str(args.random), "--seed", str(args.seed)]
     process = subprocess.Popen(command, env=dict(os.environ, PYTHONPATH=str(tree)), stdin=subprocess.PIPE,
                                stdout=subprocess.PIPE, text=True)
     assert process.stdout.readline().strip() == "ready"
@@ -83,9 +109,12 @@ def main():
     parser.add_argument("--time-limit", type=float, default=60.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--only", help="the cases whose description contains this")
+    parser.add_argument("--random", type=int, metavar="N", help="instead, N random fast starts (random_cases)")
+    parser.add_argument("--seed", type=int, default=0, help="of the random fast starts")
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
-    cases = [c for c in CASES if not args.only or args.only in json.dumps(c)]
+    drawn = random_cases(args.random, args.seed) if args.random else CASES
+    cases = [c for c in drawn if not args.only or args.only in json.dumps(c)]
     if args.worker:
         return measure(cases, args.repeats, args.time_limit)
     from ocp.core.numbers import digits
@@ -114,6 +143,12 @@ def main():
                                  f"{b[0]['cpu_s'] / r['cpu_s']:.1f} |")
         print(f"| {kind} | ({x0[0]:.4g}, {x0[1]:.4g}) | {'circle' if branch is None else f'plane {branch}'} | {kappa:g} | "
               f"{T} ({r['status']}) | {r['switches']} | {r['extremals']} | {r['cpu_s']:.4f} |{then}")
+    if args.random:
+        for label, side in zip(("", "before: "), zip(*rows)):
+            slow = sum(r["cpu_s"] > SLOW or r["status"].startswith("stopped") for r in side)
+            stopped = sum(r["status"].startswith("stopped") for r in side)
+            print(f"\n{label}{slow} of {len(side)} random fast starts (seed {args.seed}) over {SLOW:g} CPU s or "
+                  f"stopped, {stopped} stopped at the time limit")
 
 
 if __name__ == "__main__":

@@ -76,11 +76,12 @@ def map_case(seed):
 def through(kind, kappa, x0, psi, s):
     """(s, psi) of the extremal that ends at the target (base, 0) with final costate angle psi and
     passes through x0 (shifted by the map's branch) after the time-to-go s, by Newton in (psi, s) from
-    the map's (psi, s); None if it does not converge in 30 steps. Backwards from the target
-    (`taylor.extremal_variations`, direction -1, PRECISE), the state at elapsed s and its
-    derivative in psi; d/ds of the state is -f(x, u), u = sign(p2) there."""
+    the map's (psi, s0); None if it does not converge in 30 steps or an iterate leaves 0 < s <= 2 s0
+    (diverging: on a node of map 86, whose horizon is 23, an iterate reached s = 5.8e7, an integration
+    of hours). Backwards from the target (`taylor.extremal_variations`, direction -1, PRECISE), the
+    state at elapsed s and its derivative in psi; d/ds of the state is -f(x, u), u = sign(p2) there."""
     tol, order = taylor.PRECISE
-    switches, events = np.empty((512, 8)), np.empty((512, 8))
+    switches, events, s0 = np.empty((512, 8)), np.empty((512, 8)), s
     for _ in range(30):
         y0 = np.array([KINDS[kind].target_base, 0.0, math.cos(psi), math.sin(psi)])
         dy0 = np.array([0.0, 0.0, -math.sin(psi), math.cos(psi)])
@@ -99,7 +100,7 @@ def through(kind, kappa, x0, psi, s):
         except np.linalg.LinAlgError:
             return None
         psi, s = psi + float(step[0]), s + float(step[1])
-        if not (s > 0 and math.isfinite(psi)):
+        if not (0 < s <= 2 * s0 and math.isfinite(psi)):
             return None
     return None
 

@@ -52,8 +52,9 @@ def cases(n, seed):
 
 
 #: two states where the brute force once reported an arrival the search did not find
-#: (benchmarks/search_residual.py, seeds 1317 and 7459): a sign change at a jump of the label, read
-#: as a root by _root (test below); neither has an arrival there
+#: (benchmarks/search_residual.py, seeds 1317 and 7459): a sign change at a jump of the label (near
+#: an abnormal end, where a switch and a turning point swap order), read as a root by _root once (the
+#: test of a sign change at a jump checks _root on another jump); neither has an arrival there
 JUMPS = (make("damping", 0.26203204275625186, (2.8686625019490855, 0.0), 0),
          make("damping", 0.2697143632531909, (-2.797518133137074, 0.0), None))
 

@@ -61,6 +61,24 @@ def random_cases(n, seed):
     return cases
 
 
+def count(text):
+    """An argparse type: a whole number >= 1."""
+    if not text.isdigit() or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number >= 1")
+    return int(text)
+
+
+def seconds(text):
+    """An argparse type: a finite number of seconds > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number of seconds > 0")
+    return value
+
+
 def measure(cases, repeats, limit):
     """For each case index read from stdin, a JSON line: CPU seconds (least of `repeats`),
     extremals, status, T, switches."""
@@ -106,10 +124,10 @@ def ask(process, i):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--before", metavar="REV", help="also run the code of this git revision")
-    parser.add_argument("--time-limit", type=float, default=60.0)
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--time-limit", type=seconds, default=60.0)
+    parser.add_argument("--repeats", type=count, default=3)
     parser.add_argument("--only", help="the cases whose description contains this")
-    parser.add_argument("--random", type=int, metavar="N", help="instead, N random fast starts (random_cases)")
+    parser.add_argument("--random", type=count, metavar="N", help="instead, N random fast starts (random_cases)")
     parser.add_argument("--seed", type=int, default=0, help="of the random fast starts")
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()

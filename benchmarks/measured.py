@@ -26,6 +26,9 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve()       # read now: a script run as __main__ replaces this module's globals
 ROOT = HERE.parents[1]
+#: the folders of the project's code: a module imported from anywhere else, a virtual environment in
+#: the checkout included (the README's install makes one there, .venv), is not the project's
+SOURCES = ("ocp", "benchmarks")
 #: keyword arguments whose text cannot change what a command computes
 TEXT_KEYWORDS = {"help", "description", "epilog"}
 #: package data every part reads, hashed whole (what publish.py writes itself is excluded)
@@ -73,15 +76,15 @@ def extension_sources():
 
 
 def imported_sources():
-    """The project's .py files imported by this process so far, and the C sources of its compiled
-    extensions imported (relative paths)."""
+    """The project's .py files (in SOURCES) imported by this process so far, and the C sources of its
+    compiled extensions imported (relative paths)."""
     found, extensions = set(), extension_sources()
     for name, module in list(sys.modules.items()):
         path = getattr(module, "__file__", None)
-        if not path or not Path(path).resolve().is_relative_to(ROOT):
+        if not path or not any(Path(path).resolve().is_relative_to(ROOT / folder) for folder in SOURCES):
             continue
         path = Path(path).resolve()
-        if path.suffix == ".py" and not path.is_relative_to(ROOT / "tests") and path != HERE:
+        if path.suffix == ".py" and path != HERE:
             found.add(str(path.relative_to(ROOT)))
         elif name in extensions:
             found.update(extensions[name])

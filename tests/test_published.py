@@ -8,6 +8,8 @@ and the package data), and that code must be what the tree holds now. When this 
 import importlib.util
 import json
 import re
+import sys
+import types
 from pathlib import Path
 
 import pytest
@@ -80,6 +82,25 @@ def test_the_code_and_data_each_part_ran_are_unchanged(manifest, part):
     assert not changed, (f"{part} was published at {record['commit'][:12]}; since then the code or data it ran "
                          f"changed: {', '.join(changed)}; rerun `python benchmarks/publish.py --only {part}` and "
                          f"commit its output")
+
+
+@pytest.mark.parametrize("part", list(BLOCKS))
+def test_each_part_records_the_project_code_only(manifest, part):
+    """A part's record names files of the project's source folders only: a publication from a
+    checkout with its virtual environment inside (the README's .venv) once recorded every package
+    imported from there, files a clean clone does not have."""
+    outside = [f for f in manifest[part]["code"] if f.split("/")[0] not in _measured().SOURCES]
+    assert not outside, f"{part} records files outside {_measured().SOURCES}: {outside[:3]}"
+
+
+def test_a_module_of_a_virtual_environment_in_the_checkout_is_not_the_projects(tmp_path, monkeypatch):
+    """A module imported from ROOT/.venv (as from the README's install) is not recorded; one of ocp/ is."""
+    measured = _measured()
+    module = ROOT / ".venv" / "lib" / "site-packages" / "somepackage.py"
+    monkeypatch.setitem(sys.modules, "somepackage", types.SimpleNamespace(__file__=str(module)))
+    from ocp.core import problem  # noqa: F401
+    recorded = measured.imported_sources()
+    assert "ocp/core/problem.py" in recorded and not [f for f in recorded if f.startswith(".venv")]
 
 
 def test_a_docstring_or_a_help_text_is_not_code(tmp_path):

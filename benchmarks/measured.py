@@ -75,17 +75,23 @@ def extension_sources():
     return {e["name"]: e["sources"] + e.get("depends", []) for e in config["tool"]["setuptools"].get("ext-modules", [])}
 
 
+def _project(path):
+    """path relative to ROOT if it lies in the project's source folders (SOURCES), else None."""
+    path = Path(path).resolve()
+    return str(path.relative_to(ROOT)) if any(path.is_relative_to(ROOT / folder) for folder in SOURCES) else None
+
+
 def imported_sources():
     """The project's .py files (in SOURCES) imported by this process so far, and the C sources of its
     compiled extensions imported (relative paths)."""
     found, extensions = set(), extension_sources()
     for name, module in list(sys.modules.items()):
         path = getattr(module, "__file__", None)
-        if not path or not any(Path(path).resolve().is_relative_to(ROOT / folder) for folder in SOURCES):
+        relative = path and _project(path)
+        if not relative:
             continue
-        path = Path(path).resolve()
-        if path.suffix == ".py" and path != HERE:
-            found.add(str(path.relative_to(ROOT)))
+        if relative.endswith(".py") and Path(path).resolve() != HERE:
+            found.add(relative)
         elif name in extensions:
             found.update(extensions[name])
     return sorted(found)
@@ -103,13 +109,13 @@ def main(argv):
     if target[0] == "-m":
         sys.argv = [target[1], *target[2:]]
         main_file = Path(importlib.util.find_spec(target[1]).origin).resolve()     # run as __main__, not kept
-        atexit.register(_record, record, str(main_file.relative_to(ROOT)) if main_file.is_relative_to(ROOT) else None)
+        atexit.register(_record, record, _project(main_file))
         runpy.run_module(target[1], run_name="__main__", alter_sys=True)
     else:
         script = Path(target[0]).resolve()
         sys.argv = [str(script), *target[1:]]
         sys.path.insert(0, str(script.parent))
-        atexit.register(_record, record, str(script.relative_to(ROOT)) if script.is_relative_to(ROOT) else None)
+        atexit.register(_record, record, _project(script))
         runpy.run_path(str(script), run_name="__main__")
 
 

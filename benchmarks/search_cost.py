@@ -27,6 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from ocp.core.errors import InputError, finite, integer
+
 ROOT = Path(__file__).resolve().parent.parent
 #: (kind, kappa, x0, branch): None is the circle
 CASES = ([("swing-up", k, (0.0, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0)]
@@ -61,22 +63,15 @@ def random_cases(n, seed):
     return cases
 
 
-def count(text):
-    """An argparse type: a whole number >= 1."""
-    if not text.isdigit() or int(text) < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number >= 1")
-    return int(text)
-
-
-def seconds(text):
-    """An argparse type: a finite number of seconds > 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number of seconds > 0")
-    return value
+def strict(read, name, accepted, *bounds):
+    """An argparse type reading with the project's strict reader `read` (`ocp.core.errors.integer`
+    or `finite`), its one-line message kept (argparse replaces a ValueError's by its own)."""
+    def parse(text):
+        try:
+            return read(name, text, accepted, *bounds)
+        except InputError as err:
+            raise argparse.ArgumentTypeError(str(err)) from None
+    return parse
 
 
 def measure(cases, repeats, limit):
@@ -124,11 +119,14 @@ def ask(process, i):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--before", metavar="REV", help="also run the code of this git revision")
-    parser.add_argument("--time-limit", type=seconds, default=60.0)
-    parser.add_argument("--repeats", type=count, default=3)
+    parser.add_argument("--time-limit", type=strict(finite, "time-limit", "seconds from 0.001 to 1e6", 1e-3, 1e6),
+                        default=60.0)
+    parser.add_argument("--repeats", type=strict(integer, "repeats", "an integer from 1 to 1000", 1, 1000), default=3)
     parser.add_argument("--only", help="the cases whose description contains this")
-    parser.add_argument("--random", type=count, metavar="N", help="instead, N random fast starts (random_cases)")
-    parser.add_argument("--seed", type=int, default=0, help="of the random fast starts")
+    parser.add_argument("--random", type=strict(integer, "random", "an integer from 1 to 100000", 1, 100000),
+                        metavar="N", help="instead, N random fast starts (random_cases)")
+    parser.add_argument("--seed", type=strict(integer, "seed", "an integer from 0 to 2^63 - 1", 0, 2**63 - 1),
+                        default=0, help="of the random fast starts")
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     drawn = random_cases(args.random, args.seed) if args.random else CASES

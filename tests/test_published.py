@@ -89,8 +89,9 @@ def test_each_part_records_the_project_code_only(manifest, part):
     """A part's record names files of the project's source folders only: a publication from a
     checkout with its virtual environment inside (the README's .venv) once recorded every package
     imported from there, files a clean clone does not have."""
-    outside = [f for f in manifest[part]["code"] if f.split("/")[0] not in _measured().SOURCES]
-    assert not outside, f"{part} records files outside {_measured().SOURCES}: {outside[:3]}"
+    sources = _measured().SOURCES
+    outside = [f for f in manifest[part]["code"] if f.split("/")[0] not in sources]
+    assert not outside, f"{part} records files outside {sources}: {outside[:3]}"
 
 
 def test_a_module_of_a_virtual_environment_in_the_checkout_is_not_the_projects(tmp_path, monkeypatch):

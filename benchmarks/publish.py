@@ -249,6 +249,8 @@ def speed(commit):
     for args, block in ((["search_speed.py"], "search-speed"),
                         (["search_speed.py", "--kappa-table", "--chart", "docs/figures"], "search-cost"),
                         (["search_cost.py", "--time-limit", "30", "--repeats", "1"], "search-range"),
+                        (["search_cost.py", "--random", "30", "--seed", "0", "--time-limit", "30", "--repeats", "1"],
+                         "search-random"),
                         (["synthesis_speed.py"], "synthesis-speed")):
         shown = f"python benchmarks/{' '.join(args)}"
         seconds, out = run([sys.executable, f"benchmarks/{args[0]}", *args[1:]], shown)

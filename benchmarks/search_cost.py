@@ -10,7 +10,8 @@ too), a start far out, both readings, targets 60 to 1000 rad away on the plane):
 machine is shared, CPU time is what the search costs), the extremals it integrated, its status,
 T and the switch count. With --before REV the same cases are run, in a subprocess, by the code of
 the git revision REV (exported to a temporary folder and built there, its compiled kernels too), case by case in turn with this code (the
-two sides share the machine's load), and the table shows both and their ratio. A search still
+two sides share the machine's load), the table shows both and their ratio, and a line counts the
+cases proven optimal on both sides whose T differ by more than the sum of their error estimates. A search still
 running at --time-limit seconds (wall) stops there: status "stopped". With --random N the cases are
 instead N fast starts drawn by `random_cases` (seeded), the part of the accepted range where the
 search is slowest, and a last line counts those over SLOW CPU seconds (issue 22 asks for every
@@ -159,6 +160,11 @@ def main():
                                  f"{b[0]['cpu_s'] / r['cpu_s']:.1f} |")
         print(f"| {kind} | ({x0[0]:.4g}, {x0[1]:.4g}) | {'circle' if branch is None else f'plane {branch}'} | {kappa:g} | "
               f"{T} ({r['status']}) | {r['switches']} | {r['extremals']} | {r['cpu_s']:.4f} |{then}")
+    if args.before:     # the two sides' answers where both are proven optimal
+        both = [(r, b[0]) for r, *b in rows if r["status"] == b[0]["status"] == "optimal"]
+        differ = [(r["T"], b["T"]) for r, b in both if abs(r["T"] - b["T"]) > r["T_error"] + b["T_error"]]
+        print(f"\n{len(both)} cases optimal on both sides, {len(differ)} with T differing by more than the sum of "
+              f"their error estimates{': ' + ', '.join(f'{x!r} against {y!r}' for x, y in differ) if differ else ''}")
     if args.random:
         for label, side in zip(("", "before: "), zip(*rows)):
             slow = sum(r["cpu_s"] > SLOW or r["status"].startswith("stopped") for r in side)

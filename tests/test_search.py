@@ -635,15 +635,15 @@ def test_a_turning_point_seen_at_one_sample_late_but_falling_steeply_toward_the_
 
 
 def test_the_scan_for_the_runner_up_stops_at_its_budget_and_the_optimum_is_the_same(monkeypatch):
-    """Damping to branch 0 on the plane at kappa = 0.4136 from (-3.0632, -2.6463) (a random state of
-    the fingerprint set): its optimum's scan takes 912 extremals, the extension to the runner-up
-    (19.5 % slower) 1474 more. At RUNNER_UP_BUDGET = 1 (and a floor of 500) it is cut after as many
-    as the optimum's: the optimum the same to the bit, still proven, no runner-up, and the note says
-    why."""
-    problem = make("damping", 0.4135956766108378, (-3.0632336441461447, -2.646273484012138), 0)
+    """Swing-up to branch 20 on the plane at kappa = 0.5 from (0, 0): its optimum's scan takes 1078
+    extremals, the extension to the runner-up (14.7 % slower) 2163 more. At RUNNER_UP_BUDGET = 1 (and a
+    floor of 500) it is cut after as many as the optimum's: the optimum the same to the bit, still
+    proven, no runner-up, and the note says why. (The fixture before, damping to branch 0 at kappa =
+    0.4136 from (-3.0632, -2.6463), now finds its runner-up in the optimum's scan.)"""
+    problem = make("swing-up", 0.5, (0.0, 0.0), 20)
     monkeypatch.setattr(S, "RUNNER_UP_FLOOR", 500)
     whole, cut = S.search(problem, runner_up_budget=math.inf), S.search(problem)
-    assert len(whole.arrivals) == 2 and whole.arrivals[1].T > 1.19 * whole.arrivals[0].T
+    assert len(whole.arrivals) == 2 and whole.arrivals[1].T > 1.14 * whole.arrivals[0].T
     assert whole.coverage.extremals > 2 * cut.coverage.extremals
     assert cut.status == "optimal" and [a.T for a in cut.arrivals] == [whole.arrivals[0].T]
     assert cut.arrivals[0].switch_times == whole.arrivals[0].switch_times
@@ -657,3 +657,19 @@ def test_a_cheap_scan_for_the_runner_up_is_never_cut():
     best = found.arrivals[0].T
     assert found.status == "optimal" and any(a.T > best * (1 + S.TIE_WINDOW) for a in found.arrivals)
     assert not any("budget" in note for note in found.notes)
+
+
+def test_a_target_behind_a_fast_start_is_sought_from_its_turn():
+    """Swing-up from (-1.411, 8.03) to branch -2 on the plane at kappa = 0.2956: the target lies 105 rad
+    behind the start's first turning point. The scan examines first the intervals where an arrival may
+    come soonest after the turning point that forced the split (`_soonest`: its time plus the transit
+    from it), and a half whose arrivals would precede the least time from the start, now counted over
+    the turn (Problem.lower_bound: 48.6 against 20.8 before), holds none. The optimum is the one the
+    scan ordered by time alone found (58.0696687, optimal, published at 27d72b9 with 51,527 extremals),
+    now with under a tenth of those."""
+    problem = make("swing-up", 0.2956, (-1.411, 8.03), -2)
+    assert problem.lower_bound == pytest.approx(48.62, abs=0.005)
+    found = S.search(problem)
+    assert found.status == "optimal" and found.best.T == pytest.approx(58.0696687, abs=2e-7)
+    assert found.coverage.extremals < 5152
+    assert S._soonest(problem, [(3.0, 20.0), (4.0, 10.0)]) == 3.0 + S._transit(problem, 10.0, 20.0, -1.0, 1.0)

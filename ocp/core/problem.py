@@ -13,6 +13,7 @@ here (`dynamics`, `CONTROL_BOUNDS`, `terminal_bounds`, `terminal_constraints`).
 
 import math
 from dataclasses import dataclass, asdict
+from functools import cached_property
 
 from . import model
 from .errors import InputError, finite, integer
@@ -175,23 +176,46 @@ class Problem:
             best = min(best, (-s * omega0 + 2 * math.sqrt(max(0.0, s * a * d + omega0**2 / 2))) / a)
         return best
 
-    @property
+    @cached_property
     def lower_bound(self):
         """A lower bound of the minimum time, the larger of `double_integrator_bound` and the energy's:
-        E = omega^2/2 - cos(theta) changes at dE/dt = kappa u omega, and
-        |omega| <= F = sqrt(2 (E + 1)) = sqrt(omega^2 + 4 sin^2(theta/2)), so |dF/dt| <= kappa: F goes
-        from F0 to the target's F* (2 upright, 0 hanging) in T >= |F* - F0| / kappa, and the angle
-        covered, |d| <= integral of min(F0 + kappa t, F* + kappa (T - t)) dt
-        = kappa T^2/4 + S T/2 - D^2/(4 kappa) (S = F0 + F*, D = F* - F0), so also
-        T >= (sqrt(S^2 + D^2 + 4 kappa |d|) - S) / kappa; least on the circle at the branch nearest
-        theta0 (each of the two is least over the branches; their larger bounds the least of all). At
-        small kappa the energy's is the larger: 2/kappa from rest to the upright, 480 from (0, 50) at
-        kappa = 0.1 (the optimum 488.6)."""
+        E = omega^2/2 - cos(theta) changes at dE/dt = kappa u omega, so F = sqrt(2 (E + 1)) =
+        sqrt(omega^2 + 4 sin^2(theta/2)) >= |omega| changes at |dF/dt| <= kappa, and a transfer over an
+        angle d from F0 to the target's F* (2 upright, 0 hanging) takes at least `transit_time`. A start
+        moving away from the target must turn first: on the way to its first turning point (omega = 0,
+        where E = -cos(theta) <= 1) E changes at |dE/dtheta| = kappa, so that point is at least
+        reach = (E0 - 1) / kappa on (braking to F <= 2 on the way), and a target behind it is reached
+        over the way back from there too (`least_transit` from F in [0, 2]); the arrival, at rest, is
+        the first turning point only on a target past it. On the circle, the least over the branches
+        (of the one-way bound at the branch nearest theta0 and of the way back at the last branch
+        before the turn; of the one-way bound at the first past it). At small kappa the energy's is the
+        larger: 2/kappa from rest to the upright, 480 from (0, 50) at kappa = 0.1 (the optimum 488.6);
+        from (1.473, 22.78) to branch -2 at kappa = 0.41, 630 rad behind the turn: 120.7 (the optimum
+        128.1; 50.8 without the turn)."""
         theta0, omega0 = self.x0
-        near = self.nearest_branch(theta0) if self.branch is None else self.branch
-        f0, f1 = math.hypot(omega0, 2 * math.sin(theta0 / 2)), 2 * abs(math.sin(self.base / 2))
-        total, change, d = f0 + f1, f1 - f0, abs(self.target(near)[0] - theta0)
-        energy = max(abs(change), math.sqrt(total**2 + change**2 + 4 * self.kappa * d) - total) / self.kappa
+        kappa = self.kappa
+        f0, f_target = math.hypot(omega0, 2 * math.sin(theta0 / 2)), 2 * abs(math.sin(self.base / 2))
+        reach = max(0.0, (0.5 * omega0 * omega0 - math.cos(theta0) - 1) / kappa)
+        sign = math.copysign(1.0, omega0)
+        turn = theta0 + sign * reach        # the first turning point is at or past it
+        first = least_transit(kappa, reach, 0.0, 2.0, f0)
+
+        def one_way(k):
+            return transit_time(kappa, abs(self.target(k)[0] - theta0), f0, f_target)
+
+        def back(k):                        # k before the turn: the way to it and back
+            return first + least_transit(kappa, sign * (turn - self.target(k)[0]), 0.0, 2.0, f_target)
+
+        past = math.ceil if sign > 0 else math.floor
+        beyond = past((turn - self.base) / (2 * math.pi))     # the first branch at or past the turn
+        if self.branch is not None:
+            k = self.branch
+            behind = reach > 0 and sign * (self.target(k)[0] - turn) < 0
+            energy = max(one_way(k), back(k)) if behind else one_way(k)
+        elif reach > 0:
+            energy = min(one_way(beyond), max(one_way(self.nearest_branch(theta0)), back(beyond - int(sign))))
+        else:
+            energy = one_way(self.nearest_branch(theta0))
         return max(self.double_integrator_bound, energy)
 
     def describe(self):
@@ -203,6 +227,23 @@ class Problem:
 
     def to_dict(self):
         return asdict(self)
+
+
+def transit_time(kappa, d, f_from, f_to):
+    """The least time to cover an angle d >= 0 while F = sqrt(omega^2 + 4 sin^2(theta/2)) goes from
+    f_from to f_to, where |dF/dt| <= kappa and |omega| <= F: at least |f_to - f_from| / kappa, and the
+    angle covered is at most the integral of min(f_from + kappa t, f_to + kappa (T - t)) =
+    kappa T^2/4 + S T/2 - D^2/(4 kappa) (S = f_from + f_to, D = f_to - f_from), so
+    T >= (sqrt(S^2 + D^2 + 4 kappa d) - S) / kappa. Symmetric in its ends."""
+    total, change = f_from + f_to, f_to - f_from
+    return max(abs(change), math.sqrt(total * total + change * change + 4 * kappa * d) - total) / kappa
+
+
+def least_transit(kappa, d, f_lo, f_hi, f_to):
+    """The least of `transit_time` over f_from in [f_lo, f_hi]: it falls with f_from up to
+    sqrt(f_to^2 + 2 kappa d), where its two bounds meet, and rises after, so it is there, clamped."""
+    f = min(max(math.sqrt(f_to * f_to + 2 * kappa * d), f_lo), f_hi)
+    return transit_time(kappa, d, f, f_to)
 
 
 def angle_text(theta):

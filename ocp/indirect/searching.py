@@ -19,8 +19,13 @@ points has theta = theta*: arrivals are the roots of theta_label(phi) - theta*_k
 k (the circle) or the pinned one (the plane).
 
 The scan samples phi (SAMPLES per half), then bisects adaptively, best first: an interval split
-is examined again in the order of the earliest turning point that forced the split, so that the
-earliest arrivals are bracketed early and the acceptance falls early (below). Every extremal is integrated
+is examined again in the order of the earliest time an arrival may follow the turning point that
+forced the split (`_soonest`: its time, plus the transit from its angles to the nearest allowed
+target), so that the earliest arrivals are bracketed early and the acceptance falls early (below;
+ordered by the turning point's time alone, a target far behind a fast start was sought last, after
+the turning points of the far side: swing-up from (-1.411, 8.03) to branch -2 on the plane at
+kappa = 0.2956, 51,527 extremals and 19 s; 3,567 and 1.1 s with the transit and the turn's lower
+bound, below). Every extremal is integrated
 with its variational equations in phi (`taylor.extremal_variations`): each turning point carries
 its angle theta_label, its time t_label and their slopes in phi. An interval [a, b] with midpoint m
 is resolved when, for every label, each half [x0, x1] (width h) is, by a bound of what theta_label
@@ -92,7 +97,8 @@ points before it); descending from t_a, each window that reaches the acceptance 
 from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296, whose extremals are near the bottom
 65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before, 46,060 to the optimum after;
 damping from (2.5, -0.3) at kappa = 0.1: 9,092 extremals before, 1,648 after), and a half whose
-acceptance falls below the least time from the start (Problem.lower_bound: the transit from x0)
+acceptance falls below the least time from the start (Problem.lower_bound: the transit from x0,
+and back from its first turning point where the target is behind that)
 holds no arrival (swing-up to branch 158 on the plane at kappa = 0.05, 996 rad away, whose extremals
 mix near the bottom and the top for a long time: the scan to t_a = 297 stopped at 60 s with 20,727
 extremals before, complete with 4,570 after). It is worked out
@@ -147,7 +153,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..core.problem import Problem
+from ..core.problem import Problem, least_transit
 from ..core.roots import brent
 from . import near, taylor
 
@@ -673,14 +679,12 @@ def _transit(problem, lo, hi, e_lo, e_hi):
     = sqrt(omega^2 + 4 sin^2(theta / 2)) changes at |dF/dt| <= kappa and |omega| <= F
     (Problem.lower_bound): over a time tau from F* to F, tau >= |F - F*| / kappa, and the angle covered
     is at most kappa tau^2 / 4 + S tau / 2 - (F - F*)^2 / (4 kappa) (S = F + F*), so a distance d to the
-    nearest target takes tau >= (sqrt(S^2 + (F - F*)^2 + 4 kappa d) - S) / kappa. The larger of the two
-    is least over F at sqrt(F*^2 + 2 kappa d) (where they meet), so at that F clamped to the range."""
+    nearest target takes tau >= (sqrt(S^2 + (F - F*)^2 + 4 kappa d) - S) / kappa (`transit_time`), least over
+    F in the range at sqrt(F*^2 + 2 kappa d) clamped (`least_transit`)."""
     kappa, f_target, d = problem.kappa, 2 * abs(math.sin(problem.base / 2)), _gap(problem, lo, hi)
-    f = math.sqrt(f_target * f_target + 2 * kappa * d)
-    if math.isfinite(e_lo + e_hi):
-        f = min(max(f, math.sqrt(2 * max(e_lo + 1, 0.0))), math.sqrt(2 * max(e_hi + 1, 0.0)))
-    total, change = f + f_target, f - f_target
-    return max(abs(change), math.sqrt(total * total + change * change + 4 * kappa * d) - total) / kappa
+    if not math.isfinite(e_lo + e_hi):
+        return least_transit(kappa, d, 0.0, math.inf, f_target)
+    return least_transit(kappa, d, math.sqrt(2 * max(e_lo + 1, 0.0)), math.sqrt(2 * max(e_hi + 1, 0.0)), f_target)
 
 
 def _arrivals_by(problem, a, m, b, arrive, h):
@@ -753,6 +757,14 @@ def _dips(label, samples, values, arrive):
     return any(t + slope * (phi - x) <= arrive for x, t, slope in seen for phi in unseen)
 
 
+def _soonest(problem, events):
+    """The earliest time an arrival may follow a turning point seen at `events` ((t, theta) at some
+    samples), judged by those: its least time there, plus the transit (`_transit`, F in [0, 2] at rest)
+    from the nearest of its angles to an allowed target (0 if a target lies between them)."""
+    times, angles = zip(*events)
+    return min(times) + _transit(problem, min(angles), max(angles), -1.0, 1.0)
+
+
 def _curvatures(fa, fm, fb, sa, sm, sb, h):
     """For each half of [a, b] (a, m = a + h, b = a + 2h), the largest |second derivative| of the
     cubic Hermite interpolants of a function's values f and slopes s at a, m, b at the ends of that
@@ -794,7 +806,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     (`settled`) has those only: a label not among them is after it, or absent, there. A
     label seen by some samples only splits the interval unless it is late and does not dip (`_dips`), or its arc's
     energy excludes every target (`_energy_excludes`), as it does for a label whose angle the bound
-    leaves unresolved. `soonest`: the earliest time of what forced a split (the scan examines the
+    leaves unresolved. `soonest`: the earliest an arrival may follow what forced a split (`_soonest`; the scan examines the
     halves in that order)."""
     split, singular, brackets, soonest = False, math.inf, [], math.inf
     arrive = accept if arrive is None else arrive
@@ -871,7 +883,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                     return None
                 if _energy_excludes(problem, a, m, b, label[0], h):
                     return None
-                return ("split", min(v[0] for v in values if v is not None),
+                return ("split", _soonest(problem, [v for v in values if v is not None]),
                         min(_distance(problem, v[1]) for v in values if v is not None))
         (ta, tha), (tm, thm), (tb, thb) = values
         (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
@@ -914,7 +926,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
         # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
         jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
-        return "split", min(ta, tm, tb), min(_distance(problem, th) for th in (tha, thm, thb)) if jump else -1.0
+        return "split", _soonest(problem, values), min(_distance(problem, th) for th in (tha, thm, thb)) if jump else -1.0
 
     # arrivals on each half are before `arrive`, or (`_arrivals_by`, worked out where a label would split
     # the interval and, in a scan, its _Payoff says so) before the earlier time the transit from the

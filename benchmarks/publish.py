@@ -251,6 +251,8 @@ def speed(commit):
                         (["search_cost.py", "--time-limit", "30", "--repeats", "1"], "search-range"),
                         (["search_cost.py", "--random", "30", "--seed", "0", "--time-limit", "30", "--repeats", "1"],
                          "search-random"),
+                        (["search_cost.py", "--random", "30", "--seed", "0", "--wide", "--time-limit", "30",
+                          "--repeats", "1"], "search-wide"),
                         (["synthesis_speed.py"], "synthesis-speed")):
         shown = f"python benchmarks/{' '.join(args)}"
         seconds, out = run([sys.executable, f"benchmarks/{args[0]}", *args[1:]], shown)

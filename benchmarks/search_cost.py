@@ -1,7 +1,7 @@
 """The search's cost against the answer, before and after a change, side by side in one run.
 
     python benchmarks/search_cost.py [--before REV] [--time-limit S] [--repeats R] [--only WORD]
-                                     [--random N [--seed S]]
+                                     [--random N [--seed S] [--wide]]
 
 For each case of CASES (both problems from their standard starts for kappa 0.05 to 10, moving starts
 near the upright, fast starts down to kappa = 0.05 (to rest at the bottom and to a branch of the plane
@@ -14,8 +14,8 @@ two sides share the machine's load), the table shows both and their ratio, and a
 cases proven optimal on both sides whose T differ by more than the sum of their error estimates. A search still
 running at --time-limit seconds (wall) stops there: status "stopped". With --random N the cases are
 instead N fast starts drawn by `random_cases` (seeded), the part of the accepted range where the
-search is slowest, and a last line counts those over SLOW CPU seconds (issue 22 asks for every
-accepted input within 10 s) and those stopped.
+search is slowest (--wide: N starts over the whole accepted range), and a last line counts those
+over SLOW CPU seconds (issue 22 asks for every accepted input within 10 s) and those stopped.
 """
 
 import argparse
@@ -47,20 +47,37 @@ CASES = ([("swing-up", k, (0.0, 0.0), None) for k in (0.05, 0.1, 0.2, 0.3, 0.5, 
 SLOW = 10.0
 
 
-def random_cases(n, seed):
-    """n fast starts (kind, kappa, x0, branch): the kind either, kappa log-uniform in [0.1, 3], theta0
-    uniform in [-pi, pi], |omega0| uniform in [5, 30] of either sign, the circle or (half of them) a
-    plane branch in -2..2."""
+def random_cases(n, seed, wide=False):
+    """n starts (kind, kappa, x0, branch), the kind either. Fast ones: kappa log-uniform in [0.1, 3],
+    theta0 uniform in [-pi, pi], |omega0| uniform in [5, 30] of either sign, the circle or (half of
+    them) a plane branch in -2..2. `wide`: over the whole accepted range (Problem's limits): kappa
+    log-uniform in [0.05, 10], theta0 uniform in [-1000, 1000] (three in ten) or [-pi, pi], omega0
+    uniform in [-50, 50], the circle or (half of them) a plane branch within 20 of the nearest to
+    theta0 (seven in ten) or any within 1000 rad of it."""
     import numpy as np
+
+    from ocp.core.problem import KINDS, THETA_LIMIT
 
     rng = np.random.default_rng(seed)
     cases = []
     for _ in range(n):
         kind = str(rng.choice(["swing-up", "damping"]))
-        kappa = float(10 ** rng.uniform(-1, math.log10(3)))
-        x0 = (float(rng.uniform(-math.pi, math.pi)), float(rng.uniform(5, 30) * rng.choice([-1, 1])))
-        cases.append((kind, round(kappa, 4), (round(x0[0], 3), round(x0[1], 2)),
-                      None if rng.random() < 0.5 else int(rng.integers(-2, 3))))
+        if not wide:
+            kappa = float(10 ** rng.uniform(-1, math.log10(3)))
+            x0 = (float(rng.uniform(-math.pi, math.pi)), float(rng.uniform(5, 30) * rng.choice([-1, 1])))
+            cases.append((kind, round(kappa, 4), (round(x0[0], 3), round(x0[1], 2)),
+                          None if rng.random() < 0.5 else int(rng.integers(-2, 3))))
+            continue
+        kappa = round(float(10 ** rng.uniform(math.log10(0.05), 1)), 4)
+        theta0 = round(float(rng.uniform(-THETA_LIMIT, THETA_LIMIT) if rng.random() < 0.3 else rng.uniform(-math.pi, math.pi)), 3)
+        omega0 = round(float(rng.uniform(-50, 50)), 2)
+        branch, base = None, KINDS[kind].target_base
+        if rng.random() < 0.5:
+            lo = math.ceil((theta0 - THETA_LIMIT - base) / (2 * math.pi))
+            hi = math.floor((theta0 + THETA_LIMIT - base) / (2 * math.pi))
+            near = round((theta0 - base) / (2 * math.pi))
+            branch = int(near + rng.integers(-20, 21)) if rng.random() < 0.7 else int(rng.integers(lo, hi + 1))
+        cases.append((kind, kappa, (theta0, omega0), branch))
     return cases
 
 
@@ -104,7 +121,7 @@ def worker(tree, args):
     if args.only:
         command += ["--only", args.only]
     if args.random:
-        command += ["--random", str(args.random), "--seed", str(args.seed)]
+        command += ["--random", str(args.random), "--seed", str(args.seed)] + ["--wide"] * args.wide
     process = subprocess.Popen(command, env=dict(os.environ, PYTHONPATH=str(tree)), stdin=subprocess.PIPE,
                                stdout=subprocess.PIPE, text=True)
     assert process.stdout.readline().strip() == "ready"
@@ -128,9 +145,10 @@ def main():
                         metavar="N", help="instead, N random fast starts (random_cases)")
     parser.add_argument("--seed", type=strict(integer, "seed", "an integer from 0 to 2^63 - 1", 0, 2**63 - 1),
                         default=0, help="of the random fast starts")
+    parser.add_argument("--wide", action="store_true", help="with --random: starts over the whole accepted range")
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
-    drawn = random_cases(args.random, args.seed) if args.random else CASES
+    drawn = random_cases(args.random, args.seed, args.wide) if args.random else CASES
     cases = [c for c in drawn if not args.only or args.only in json.dumps(c)]
     if args.worker:
         return measure(cases, args.repeats, args.time_limit)
@@ -169,7 +187,8 @@ def main():
         for label, side in zip(("", "before: "), zip(*rows)):
             slow = sum(r["cpu_s"] > SLOW or r["status"].startswith("stopped") for r in side)
             stopped = sum(r["status"].startswith("stopped") for r in side)
-            print(f"\n{label}{slow} of {len(side)} random fast starts (seed {args.seed}) over {SLOW:g} CPU s or "
+            drawn = "starts over the accepted range" if args.wide else "fast starts"
+            print(f"\n{label}{slow} of {len(side)} random {drawn} (seed {args.seed}) over {SLOW:g} CPU s or "
                   f"stopped, {stopped} stopped at the time limit")
 
 

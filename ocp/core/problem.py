@@ -183,12 +183,13 @@ class Problem:
         sqrt(omega^2 + 4 sin^2(theta/2)) >= |omega| changes at |dF/dt| <= kappa, and a transfer over an
         angle d from F0 to the target's F* (2 upright, 0 hanging) takes at least `transit_time`. A start
         moving away from the target must turn first: on the way to its first turning point (omega = 0,
-        where E = -cos(theta) <= 1) E changes at |dE/dtheta| = kappa, so that point is at least
-        reach = (E0 - 1) / kappa on (braking to F <= 2 on the way), and a target behind it is reached
+        where E = -cos(theta) <= 1) E changes at |dE/dtheta| = kappa |u| <= kappa, so that point is at least
+        reach = (E0 - 1) / kappa on (braking to F <= 2 on the way, at least (F0 - 2) / kappa), and a target behind it is reached
         over the way back from there too (`least_transit` from F in [0, 2]); the arrival, at rest, is
-        the first turning point only on a target past it. On the circle, the least over the branches
-        (of the one-way bound at the branch nearest theta0 and of the way back at the last branch
-        before the turn; of the one-way bound at the first past it). At small kappa the energy's is the
+        the first turning point only on a target past it. On the circle, the least over the branches,
+        relaxed: min(one-way at the first branch at or past the turn, max(one-way at the branch nearest
+        theta0, way back from the last branch before the turn)) (the one-way bound grows with the
+        distance from theta0, the way back with the distance from the turn). At small kappa the energy's is the
         larger: 2/kappa from rest to the upright, 480 from (0, 50) at kappa = 0.1 (the optimum 488.6);
         from (1.473, 22.78) to branch -2 at kappa = 0.41, 630 rad behind the turn: 120.7 (the optimum
         128.1; 50.8 without the turn)."""
@@ -230,7 +231,7 @@ class Problem:
 
 
 def transit_time(kappa, d, f_from, f_to):
-    """The least time to cover an angle d >= 0 while F = sqrt(omega^2 + 4 sin^2(theta/2)) goes from
+    """A lower bound of the time to cover an angle d >= 0 while F = sqrt(omega^2 + 4 sin^2(theta/2)) goes from
     f_from to f_to, where |dF/dt| <= kappa and |omega| <= F: at least |f_to - f_from| / kappa, and the
     angle covered is at most the integral of min(f_from + kappa t, f_to + kappa (T - t)) =
     kappa T^2/4 + S T/2 - D^2/(4 kappa) (S = f_from + f_to, D = f_to - f_from), so

@@ -5,6 +5,7 @@ import math
 import casadi as ca
 import numpy as np
 import pytest
+from scipy.optimize import minimize_scalar
 
 from ocp import MultipleShooting, damping, swing_up
 from ocp.core import model
@@ -84,7 +85,8 @@ def energy_bound(problem, k):
     """The energy bound to branch k from its definition: `tent_time` from F0 to the target's F* over
     |theta*_k - theta0|; for a start moving away from a target behind its first turning point, which is
     at least reach = (E0 - 1) / kappa on (where E = omega^2 / 2 - cos(theta) <= 1), also the way there
-    (to F = 2) and back (from the best F in [0, 2], by golden-section search: the time is unimodal in it)."""
+    (to F = 2) and back (from the best F in [0, 2], by scipy's bounded minimisation: the time is
+    unimodal in it; its ends too)."""
     (theta0, omega0), kappa = problem.x0, problem.kappa
     f0, f1 = math.sqrt(omega0**2 + 2 * (1 - math.cos(theta0))), math.sqrt(2 * (1 - math.cos(problem.base)))
     one_way = tent_time(f0, f1, abs(problem.target(k)[0] - theta0), kappa)
@@ -93,20 +95,8 @@ def energy_bound(problem, k):
     if reach <= 0 or back <= 0:
         return one_way
     time = lambda f: tent_time(f, f1, back, kappa)
-    ratio = (math.sqrt(5) - 1) / 2
-    lo, hi = 0.0, 2.0
-    x, y = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
-    tx, ty = time(x), time(y)
-    for _ in range(30):
-        if tx <= ty:
-            hi, y, ty = y, x, tx
-            x = hi - ratio * (hi - lo)
-            tx = time(x)
-        else:
-            lo, x, tx = x, y, ty
-            y = lo + ratio * (hi - lo)
-            ty = time(y)
-    return max(one_way, tent_time(f0, 2.0, reach, kappa) + min(tx, ty, time(2.0)))
+    least = minimize_scalar(time, bounds=(0.0, 2.0), method="bounded", options={"xatol": 1e-10})
+    return max(one_way, tent_time(f0, 2.0, reach, kappa) + min(least.fun, time(0.0), time(2.0)))
 
 
 def test_lower_bound_is_the_least_over_every_branch():

@@ -148,6 +148,8 @@ def main():
     parser.add_argument("--wide", action="store_true", help="with --random: starts over the whole accepted range")
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.wide and not args.random:
+        parser.error("--wide draws random starts: give it with --random N")
     drawn = random_cases(args.random, args.seed, args.wide) if args.random else CASES
     cases = [c for c in drawn if not args.only or args.only in json.dumps(c)]
     if args.worker:

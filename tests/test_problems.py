@@ -99,6 +99,18 @@ def energy_bound(problem, k):
     return max(one_way, tent_time(f0, 2.0, reach, kappa) + min(least.fun, time(0.0), time(2.0)))
 
 
+@pytest.mark.parametrize("branch", [None, 2, -1])
+def test_the_gap_to_the_targets_is_the_least_distance_to_a_target_angle_outside_an_interval(branch):
+    """`Problem.gap` against the distances to the target angles listed one by one (branches -5 to 5)."""
+    problem = make("swing-up", 1.0, branch=branch)
+    rng = np.random.default_rng(5)
+    for lo in rng.uniform(-30, 30, 200):
+        hi = lo + float(rng.exponential(2.0))
+        angles = [problem.target(k)[0] for k in range(-5, 6) if branch is None or k == branch]
+        expected = 0.0 if any(lo <= x <= hi for x in angles) else min(min(abs(x - lo), abs(x - hi)) for x in angles)
+        assert problem.gap(lo, hi) == pytest.approx(expected, abs=1e-12)
+
+
 def test_lower_bound_is_the_least_over_every_branch():
     """On the plane, the larger of the double-integrator bound and of the energy bound against their
     definitions (`energy_bound`); on the circle, below the least of those over 4001 branches (a fast
@@ -130,6 +142,33 @@ def test_lower_bound_is_the_least_over_every_branch():
             if k in pinned:
                 assert pinned[k] == pytest.approx(max(bound(k), energy_bound(p, k)), rel=1e-7)
     assert make("swing-up", 1.0, (0.0, 20.0)).lower_bound < 19.552
+
+
+def test_the_transit_over_a_box_of_states_is_below_the_transit_from_each():
+    """`Problem.transit` over theta in [lo, hi], e in [e_lo, e_hi] with omega's sign known is below its
+    value at every state of the box (the states on a 9 x 9 grid, each the energy bound of a start there,
+    `lower_bound`, checked against its definition above), on both readings; with the sign unknown,
+    below both signs'. Boxes of 0 to 40 rad and 0 to 50 in e, from rest to fast, near and far."""
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        kind, kappa = ("swing-up", "damping")[rng.integers(2)], float(np.exp(rng.uniform(np.log(0.05), np.log(10))))
+        lo = float(rng.uniform(-300, 300))
+        hi, e_lo = lo + float(rng.exponential(10)), float(rng.uniform(-1, 200))
+        e_hi = e_lo + float(rng.exponential(10))
+        branch = None if rng.random() < 0.5 else int(rng.integers(-50, 51))
+        problem = make(kind, kappa, (0.0, 0.0), branch)
+        for sign in (-1.0, 1.0):
+            box = problem.transit(lo, hi, e_lo, e_hi, sign)
+            assert problem.transit(lo, hi, e_lo, e_hi) <= box * (1 + 1e-12)
+            for theta in np.linspace(lo, hi, 9):
+                for e in np.linspace(e_lo, e_hi, 9):
+                    if e + math.cos(theta) <= 0:
+                        continue                # no state moving there
+                    at = problem.transit(theta, theta, e, e, sign)
+                    assert box <= at * (1 + 1e-12)
+                    start = make(kind, kappa, (float(theta), sign * math.sqrt(2 * (e + math.cos(theta)))), branch)
+                    if start.lower_bound > start.double_integrator_bound:
+                        assert start.lower_bound == pytest.approx(at, rel=1e-9)
 
 
 @pytest.mark.parametrize("kind, kappa, x0, branch, optimum", [

@@ -258,12 +258,14 @@ def test_the_recorded_switch_states_are_the_state_at_the_switch_and_their_slopes
 
 @pytest.mark.parametrize("kind, kappa", [("swing-up", 0.3), ("damping", 0.3), ("damping", 2.0), ("swing-up", 0.05)])
 def test_no_trajectory_leaves_a_turning_point_on_the_target_faster_than_the_transit_bound(kind, kappa):
-    """`_transit`: from rest on the target (theta*, 0), along random bang-bang controls (arcs of 0.05 to
-    3, kept at least 1 on the control pushing away, so that the pendulum travels far), no state at time
-    t has a transit bound above t; and the bound is not vacuous (it reaches 50 % of t on some)."""
+    """`Problem.transit`: from rest on the target (theta*, 0), along random bang-bang controls (arcs of
+    0.05 to 3, kept at least 1 on the control pushing away, so that the pendulum travels far), no state
+    at time t has a transit bound above t, nor the bound with omega's sign reversed (run backwards in
+    time, the state moves with -omega: where that is away from the target, it turns first); and the
+    bounds are not vacuous (the first reaches 50 % of t on some, the turn adds 5 % of t on some)."""
     problem = make(kind, kappa, branch=0)
     rng = np.random.default_rng(3)
-    tightest = 0.0
+    tightest = turned = 0.0
     for _ in range(40):
         x, t = np.array(problem.target(0)), 0.0
         u = float(rng.choice([-1.0, 1.0]))
@@ -273,23 +275,11 @@ def test_no_trajectory_leaves_a_turning_point_on_the_target_faster_than_the_tran
                 x = taylor.bang(x, [u], [step], kappa, *taylor.CHECK)
                 t += step
                 e = 0.5 * x[1] ** 2 - math.cos(x[0])
-                bound = S._transit(problem, x[0], x[0], e, e)
-                assert bound <= t * (1 + 1e-12)
-                tightest = max(tightest, bound / t)
+                bound, back = problem.transit(x[0], x[0], e, e), problem.transit(x[0], x[0], e, e, -np.sign(x[1]))
+                assert bound <= back <= t * (1 + 1e-12)
+                tightest, turned = max(tightest, bound / t), max(turned, back / t - bound / t)
             u = -u if rng.random() < 0.7 else u
-    assert tightest > 0.5
-
-
-@pytest.mark.parametrize("branch", [None, 2, -1])
-def test_the_gap_to_the_targets_is_the_least_distance_to_a_target_angle_outside_an_interval(branch):
-    """`_gap` against the distances to the target angles listed one by one (branches -5 to 5)."""
-    problem = make("swing-up", 1.0, branch=branch)
-    rng = np.random.default_rng(5)
-    for lo in rng.uniform(-30, 30, 200):
-        hi = lo + float(rng.exponential(2.0))
-        angles = [problem.target(k)[0] for k in range(-5, 6) if branch is None or k == branch]
-        expected = 0.0 if any(lo <= x <= hi for x in angles) else min(min(abs(x - lo), abs(x - hi)) for x in angles)
-        assert S._gap(problem, lo, hi) == pytest.approx(expected, abs=1e-12)
+    assert tightest > 0.5 and turned > 0.05
 
 
 def test_the_transit_bound_is_worked_out_while_it_pays():
@@ -317,7 +307,7 @@ def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_
     three see is a state too: at theta = 40 (36.9 rad from the target), its window lowers the record's."""
     problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
     e = 0.3
-    one = S._transit(problem, 20.0, 20.0, e, e)
+    one = problem.transit(20.0, 20.0, e, e)
     # the time from that state to the target: Problem.lower_bound's energy bound (above its double
     # integrator's, 5.27, moving toward the target)
     omega = -math.sqrt(2 * (e + math.cos(20.0)))
@@ -335,16 +325,58 @@ def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_
     a, m, b = samples(switches=False)
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == pytest.approx([8.0 - one] * 2)
     a, m, b = samples()
-    assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == pytest.approx([3.0 - S._transit(problem, 10.0, 10.0, e, e)] * 2)
+    assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == pytest.approx([3.0 - problem.transit(10.0, 10.0, e, e)] * 2)
     a, m, b = samples(events=({}, {}, {(1, 0): (5.0, 12.0, 0.0, 0.0)}))
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
     # a turning point all three see, at t = 6 on theta = 40 (e = -cos(40)), is a state of the extremal too
     turning = {(1, 0): (6.0, 40.0, 0.0, 0.0)}
     a, m, b = samples(events=(turning, turning, turning), switches=False)
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == pytest.approx(
-        [6.0 - S._transit(problem, 40.0, 40.0, -math.cos(40.0), -math.cos(40.0))] * 2)
+        [6.0 - problem.transit(40.0, 40.0, -math.cos(40.0), -math.cos(40.0))] * 2)
     a, m, b = samples(switches=False, extra=True)
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
+
+
+@pytest.mark.parametrize("omega0, flipped", [(5.0, False), (-5.0, False), (0.0, False), (5.0, True), (-5.0, True)])
+def test_a_shared_state_moving_away_from_the_target_counts_its_turn(omega0, flipped):
+    """`_arrivals_by` with omega's sign: swing-up at kappa = 1 to branch 0 (pi) on the plane from (0,
+    omega0). Samples that share a switch at t = 3 at theta = -40 with e = 30 (43.1 rad before the
+    target, F = 7.9): omega's sign there is the start's, changed by each turning point before it (one
+    at t = 1 on theta = -39.5 where `flipped`), unknown from rest. Moving toward the target (+), an
+    arrival after the switch may be soon (its first turning point, at least reach = (e - 1) / kappa =
+    29 rad on, is before the target), but one before it is a turn and a way back in reversed time: the
+    half's acceptance falls to 3 less that; moving away, to 3 less the one-way transit (and 1 less the
+    turning point's, where one is before). Moving toward it from -10 instead, the pendulum would
+    overshoot the target: the turn counts both ways."""
+    problem = make("swing-up", 1.0, (0.0, omega0), branch=0)
+    e, theta = 30.0, -40.0
+    sign = np.sign(omega0) * (-1 if flipped else 1)
+    turning = {(0, 0): (1.0, -39.5, 0.0, 0.0)} if flipped else {}
+    out = []
+    for phi in (0.0, 0.1, 0.2):
+        sample = fake_sample(phi, None, 0.0, (0.5, 0.0, 0.3, 0.0, 20.0, 0.0), events=turning, switches=((3.0, 0.0),))
+        sample.switch_states = [(theta, 0.0, e, 0.0)]
+        out.append(sample)
+    one_way, turn = problem.transit(theta, theta, e, e), problem.transit(theta, theta, e, e, -1.0)
+    assert turn > 2.5 * one_way
+    assert problem.transit(theta, theta, e, e, 1.0) == one_way
+    assert problem.transit(-10.0, -10.0, e, e, 1.0) > 1.5 * problem.transit(-10.0, -10.0, e, e)
+    expected = 3.0 - problem.transit(theta, theta, e, e, -sign)
+    if flipped:
+        expected = min(expected, 1.0 - problem.transit(-39.5, -39.5, -math.cos(39.5), -math.cos(39.5)))
+    assert S._arrivals_by(problem, *out, 8.0, 0.1) == pytest.approx([expected] * 2, rel=1e-12)
+    assert (expected < 3.0 - turn + 1e-9) == (sign > 0)
+
+
+def test_omega_s_sign_on_a_half_is_known_where_its_values_and_slopes_bound_it_away_from_zero():
+    """`_signs`: omega (value, slope) at a, m, b (h = 0.1): of one sign on both halves where it stays
+    beyond its chord's reach (constant, or a line); unknown on a half where the curvature of its
+    interpolants (slopes 0, -40, 0 between values 1, 1, 1) lets it dip through zero, or where it
+    changes sign between the ends."""
+    assert S._signs((1.0, 0.0), (1.0, 0.0), (1.0, 0.0), 0.1) == (1.0, 1.0)
+    assert S._signs((-1.0, -0.1), (-1.01, -0.1), (-1.02, -0.1), 0.1) == (-1.0, -1.0)
+    assert S._signs((1.0, 0.0), (1.0, -40.0), (1.0, 0.0), 0.1) == (0.0, 0.0)
+    assert S._signs((1.0, 0.0), (0.5, 0.0), (-1.0, 0.0), 0.1)[1] == 0.0
 
 
 @pytest.mark.parametrize("theta, descent_ends, split", [(25.0, 3.0, False), (math.pi + 0.3, 8.0, True)])
@@ -367,7 +399,7 @@ def test_a_half_whose_arrivals_would_precede_the_least_time_from_the_start_holds
         sample.switch_states = [(theta, 0.0, e, 0.0)]
     least, by = problem.lower_bound, S._arrivals_by(problem, a, m, b, 8.0, 0.1)
     assert (max(by) < least) == (not split)
-    assert by == pytest.approx([descent_ends - S._transit(problem, theta, theta, e, e)] * 2)
+    assert by == pytest.approx([descent_ends - problem.transit(theta, theta, e, e)] * 2)
     assert S._examine(problem, None, a, m, b, 8.0, 15.0)[0] == split
 
 
@@ -591,17 +623,18 @@ def test_an_arcs_energy_excludes_the_targets_none_of_its_turning_points_can_be_a
 
 def test_the_energy_and_the_transit_bounds_each_isolate_extremals_that_reach_a_saddle_coarser(monkeypatch):
     """Damping from (2.5, -0.3) at kappa = 0.3, a start moving near the upright: without the arcs'
-    energies (`_energy_excludes`) and the transit time (`_transit`), the extremals of the family that
+    energies (`_energy_excludes`) and the transit time (`_arrivals_by`), the extremals of the family that
     run into a saddle are each isolated to a spacing of 2.6e-9 (308 extremals); either bound alone
-    resolves them coarser (180 extremals each, at 8.6e-5 with the energies, 2.7e-6 with the transit;
-    166 with both), with the same arrivals, every arrival of the brute force among them."""
+    resolves them coarser (at 8.6e-5 each: 180 extremals with the energies, 146 with the transit, which
+    counts the turn of a state moving away; 146 with both), with the same arrivals, every arrival of the
+    brute force among them."""
     problem = make("damping", 0.3, (2.5, -0.3))
     both = S.search(problem)
-    energy, transit = S._energy_excludes, S._transit
+    energy, transit = S._energy_excludes, S._arrivals_by
     searches = {}
     for name, energy_on, transit_on in (("energy", True, False), ("transit", False, True), ("neither", False, False)):
         monkeypatch.setattr(S, "_energy_excludes", energy if energy_on else lambda *args: False)
-        monkeypatch.setattr(S, "_transit", transit if transit_on else lambda *args: 0.0)
+        monkeypatch.setattr(S, "_arrivals_by", transit if transit_on else lambda problem, a, m, b, arrive, h: [arrive] * 2)
         searches[name] = S.search(problem)
     neither = searches["neither"]
     for found in (both, searches["energy"], searches["transit"]):
@@ -672,4 +705,4 @@ def test_a_target_behind_a_fast_start_is_sought_from_its_turn():
     found = S.search(problem)
     assert found.status == "optimal" and found.best.T == pytest.approx(58.0696687, abs=2e-7)
     assert found.coverage.extremals < 5152
-    assert S._soonest(problem, [(3.0, 20.0), (4.0, 10.0)]) == 3.0 + S._transit(problem, 10.0, 20.0, -1.0, 1.0)
+    assert S._soonest(problem, [(3.0, 20.0), (4.0, 10.0)]) == 3.0 + problem.transit(10.0, 20.0, -1.0, 1.0)

@@ -194,30 +194,52 @@ class Problem:
         from (1.473, 22.78) to branch -2 at kappa = 0.41, 630 rad behind the turn: 120.7 (the optimum
         128.1; 50.8 without the turn)."""
         theta0, omega0 = self.x0
-        kappa = self.kappa
-        f0, f_target = math.hypot(omega0, 2 * math.sin(theta0 / 2)), 2 * abs(math.sin(self.base / 2))
-        reach = max(0.0, (0.5 * omega0 * omega0 - math.cos(theta0) - 1) / kappa)
-        sign = math.copysign(1.0, omega0)
-        turn = theta0 + sign * reach        # the first turning point is at or past it
-        first = least_transit(kappa, reach, 0.0, 2.0, f0)
+        e0 = 0.5 * omega0 * omega0 - math.cos(theta0)
+        return max(self.double_integrator_bound, self.transit(theta0, theta0, e0, e0, math.copysign(1.0, omega0)))
 
-        def one_way(k):
-            return transit_time(kappa, abs(self.target(k)[0] - theta0), f0, f_target)
+    def gap(self, lo, hi):
+        """The distance from [lo, hi] to the nearest allowed target angle, 0 if one lies in it (or lo, hi
+        are not finite)."""
+        if not math.isfinite(lo + hi):
+            return 0.0
+        if self.branch is not None:
+            target = self.target(self.branch)[0]
+            return max(lo - target, target - hi, 0.0)
+        below = self.base + 2 * math.pi * math.floor((hi - self.base) / (2 * math.pi))   # the last target <= hi
+        return 0.0 if below >= lo else min(lo - below, below + 2 * math.pi - hi)
 
-        def back(k):                        # k before the turn: the way to it and back
-            return first + least_transit(kappa, sign * (turn - self.target(k)[0]), 0.0, 2.0, f_target)
+    def transit(self, lo, hi, e_lo, e_hi, sign=0.0):
+        """A lower bound of the time from a state with theta in [lo, hi], e = omega^2/2 - cos(theta) in
+        [e_lo, e_hi] and omega of sign `sign` (0: either) to an arrival (at rest on an allowed target,
+        F* = 2 |sin(theta*/2)|) after it (`lower_bound`'s argument from any state; run backwards in time,
+        the same with -sign bounds the time from an arrival before it). One way: `least_transit` over the
+        gap to the nearest target. A state moving away (e > 1) turns first, at least reach = (e_lo - 1) /
+        kappa on, braking to F <= 2 (`least_transit` over the reach from F_lo, (F_lo - 2) / kappa: the
+        least over [F_lo, F_hi]), so a target behind the nearest turn is reached over the way back from
+        it too; on the circle, the least over the branches, relaxed: min(one way to the first branch at or
+        past the turn, max(one way to the nearest, way back from the last branch before the turn))."""
+        kappa, f_target = self.kappa, 2 * abs(math.sin(self.base / 2))
+        if not math.isfinite(lo + hi + e_lo + e_hi):
+            return least_transit(kappa, self.gap(lo, hi), 0.0, math.inf, f_target)
+        f_lo, f_hi = math.sqrt(2 * max(e_lo + 1, 0.0)), math.sqrt(2 * max(e_hi + 1, 0.0))
+        nearest = least_transit(kappa, self.gap(lo, hi), f_lo, f_hi, f_target)
+        reach = max(0.0, (e_lo - 1) / kappa) if sign else 0.0
+        if reach == 0.0:
+            return nearest
+        turn = (lo if sign > 0 else hi) + sign * reach        # the first turning point is at or past it
+        first = least_transit(kappa, reach, 0.0, 2.0, f_lo)
 
+        def back(target):                   # a target before the turn: the way to it and back
+            return max(nearest, first + least_transit(kappa, sign * (turn - target), 0.0, 2.0, f_target))
+
+        if self.branch is not None:
+            target = self.target(self.branch)[0]
+            return back(target) if sign * (target - turn) < 0 else nearest
         past = math.ceil if sign > 0 else math.floor
         beyond = past((turn - self.base) / (2 * math.pi))     # the first branch at or past the turn
-        if self.branch is not None:
-            k = self.branch
-            behind = reach > 0 and sign * (self.target(k)[0] - turn) < 0
-            energy = max(one_way(k), back(k)) if behind else one_way(k)
-        elif reach > 0:
-            energy = min(one_way(beyond), max(one_way(self.nearest_branch(theta0)), back(beyond - int(sign))))
-        else:
-            energy = one_way(self.nearest_branch(theta0))
-        return max(self.double_integrator_bound, energy)
+        one_way = least_transit(kappa, max(0.0, sign * (self.target(beyond)[0] - (hi if sign > 0 else lo))),
+                                f_lo, f_hi, f_target)
+        return min(one_way, back(self.target(beyond - int(sign))[0]))
 
     def describe(self):
         """One line: kind, kappa, start, target set and reading."""
@@ -237,13 +259,13 @@ def transit_time(kappa, d, f_from, f_to):
     kappa T^2/4 + S T/2 - D^2/(4 kappa) (S = f_from + f_to, D = f_to - f_from), so
     T >= (sqrt(S^2 + D^2 + 4 kappa d) - S) / kappa. Symmetric in its ends."""
     total, change = f_from + f_to, f_to - f_from
-    return max(abs(change), math.sqrt(total * total + change * change + 4 * kappa * d) - total) / kappa
+    return max(abs(change), math.sqrt(total * total + change * change + 4 * kappa * max(d, 0.0)) - total) / kappa
 
 
 def least_transit(kappa, d, f_lo, f_hi, f_to):
     """The least of `transit_time` over f_from in [f_lo, f_hi]: it falls with f_from up to
     sqrt(f_to^2 + 2 kappa d), where its two bounds meet, and rises after, so it is there, clamped."""
-    f = min(max(math.sqrt(f_to * f_to + 2 * kappa * d), f_lo), f_hi)
+    f = min(max(math.sqrt(f_to * f_to + 2 * kappa * max(d, 0.0)), f_lo), f_hi)
     return transit_time(kappa, d, f, f_to)
 
 

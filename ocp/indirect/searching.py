@@ -89,11 +89,13 @@ too. The labels are examined in time order
 along the extremal: once one is after the acceptance on a whole half, so is every later one, and
 so is every label of an arc that begins after a switch bounded after it there. The acceptance of a
 half may be earlier than the scan's (`_arrivals_by`): an arrival at T (a turning point on a target,
-F = sqrt(2 (e + 1)) = F* there) is at least `_transit` away in time from every state of its
+F = sqrt(2 (e + 1)) = F* there) is at least `Problem.transit` away in time from every state of its
 extremal (|dF/dt| <= kappa, |omega| <= F: the time to change F, and to cover the distance to the
-nearest target), so none lies within that of a state bounded on the half (at t_a and the other times
-the samples recorded, and at the switches they share, where they see the same switches and turning
-points before it); descending from t_a, each window that reaches the acceptance lowers it (swing-up
+nearest target; where omega's sign is known, a state moving away from an arrival after it, or toward
+one before it, turns first: Problem.lower_bound's argument from any state), so none lies within
+that of a state bounded on the half (at t_a and the other times the samples recorded, and at the
+switches they share, where they see the same switches and turning points before it: omega's sign
+there is the start's, changed at each of those); descending from t_a, each window that reaches the acceptance lowers it (swing-up
 from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296, whose extremals are near the bottom
 65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before, 46,060 to the optimum after;
 damping from (2.5, -0.3) at kappa = 0.1: 9,092 extremals before, 1,648 after), and a half whose
@@ -153,7 +155,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..core.problem import Problem, least_transit
+from ..core.problem import Problem
 from ..core.roots import brent
 from . import near, taylor
 
@@ -605,18 +607,6 @@ def _targets(problem, lo, hi):
     return ks if problem.branch is None else [k for k in (problem.branch,) if k in ks]
 
 
-def _gap(problem, lo, hi):
-    """The distance from [lo, hi] to the nearest allowed target angle, 0 if one lies in it (or lo, hi
-    are not finite)."""
-    if not math.isfinite(lo + hi):
-        return 0.0
-    if problem.branch is not None:
-        target = problem.target(problem.branch)[0]
-        return max(lo - target, target - hi, 0.0)
-    below = problem.base + 2 * math.pi * math.floor((hi - problem.base) / (2 * math.pi))   # the last target <= hi
-    return 0.0 if below >= lo else min(lo - below, below + 2 * math.pi - hi)
-
-
 def _distance(problem, theta):
     """Distance from theta to the nearest allowed target angle."""
     k = problem.nearest_branch(theta) if problem.branch is None else problem.branch
@@ -672,26 +662,14 @@ def _energy_excludes(problem, a, m, b, arc, h):
     return not _targets(problem, min(ends), max(ends))
 
 
-def _transit(problem, lo, hi, e_lo, e_hi):
-    """A lower bound of the time between an arrival (a turning point on an allowed target theta*, where
-    F = F* = 2 |sin(theta* / 2)|) and a state of its trajectory, before or after it, with theta in
-    [lo, hi] and e = omega^2 / 2 - cos(theta) in [e_lo, e_hi]. Along every trajectory F = sqrt(2 (e + 1))
-    = sqrt(omega^2 + 4 sin^2(theta / 2)) changes at |dF/dt| <= kappa and |omega| <= F
-    (Problem.lower_bound): over a time tau from F* to F, tau >= |F - F*| / kappa, and the angle covered
-    is at most kappa tau^2 / 4 + S tau / 2 - (F - F*)^2 / (4 kappa) (S = F + F*), so a distance d to the
-    nearest target takes tau >= (sqrt(S^2 + (F - F*)^2 + 4 kappa d) - S) / kappa (`transit_time`), least over
-    F in the range at sqrt(F*^2 + 2 kappa d) clamped (`least_transit`)."""
-    kappa, f_target, d = problem.kappa, 2 * abs(math.sin(problem.base / 2)), _gap(problem, lo, hi)
-    if not math.isfinite(e_lo + e_hi):
-        return least_transit(kappa, d, 0.0, math.inf, f_target)
-    return least_transit(kappa, d, math.sqrt(2 * max(e_lo + 1, 0.0)), math.sqrt(2 * max(e_hi + 1, 0.0)), f_target)
-
-
 def _arrivals_by(problem, a, m, b, arrive, h):
     """For each half of [a.phi, b.phi] (width h), the latest time an arrival may have there, `arrive` or
-    earlier. An arrival at T is `_transit` away from every state of its extremal: none is within that
-    of a state bounded on the half (at a time a, m and b recorded, `_Sample.ends`, or at a switch or a
-    turning point they all see: its time, angle and e bounded by their values and slopes, `_reaches`),
+    earlier. An arrival at T after a state of its extremal is `Problem.transit` later, one before it
+    the transit with omega's sign reversed earlier (run backwards in time): none is within those of a
+    state bounded on the half (at a time a, m and b recorded, `_Sample.ends`, omega's sign bounded too
+    (`_signs`), or at a switch or a turning point they all see: its time, angle and e bounded by their
+    values and slopes, `_reaches`; omega's sign at a switch is the start's, changed at each turning
+    point before it),
     where the three see the same switches and turning points before it (where they do not, the family
     changes between them in ways their values and slopes need not show: an abnormal end's switches,
     moving by thousands per radian). From the latest of those states down, each whose window reaches
@@ -704,47 +682,63 @@ def _arrivals_by(problem, a, m, b, arrive, h):
     shared = next((i for i, (la, lm, lb) in enumerate(zip(a.events, m.events, b.events)) if not la == lm == lb),
                   min(len(s.events) for s in samples))
     alike = list(itertools.islice(a.events, shared))
+    start = math.copysign(1.0, problem.x0[1]) if problem.x0[1] != 0.0 else 0.0     # omega's sign from t = 0
     differ = [next(itertools.islice(s.events.values(), shared, None), (math.inf,))[0] for s in samples]
 
     def recorded():
         for t in sorted(a.ends.keys() & m.ends.keys() & b.ends.keys(), reverse=True):
             if t < min(differ) and bisect.bisect_right(a.switch_times, t) == bisect.bisect_right(
                     m.switch_times, t) == bisect.bisect_right(b.switch_times, t):
-                yield t, (t, t, t), (0.0, 0.0, 0.0), [s.ends[t][4:] + s.ends[t][2:4] for s in samples], True
+                yield t, (t, t, t), (0.0, 0.0, 0.0), [s.ends[t][4:] + s.ends[t][2:4] for s in samples], True, \
+                    [s.ends[t][:2] for s in samples]
 
     def switched():
         for k in range(min(len(s.switch_times) for s in samples) - 1, -1, -1):
             times = [s.switch_times[k] for s in samples]
             if all(t < d for t, d in zip(times, differ)):
-                yield max(times), times, [s.switch_slopes[k] for s in samples], [s.switch_states[k] for s in samples], True
+                # omega's sign there: the start's, changed at each turning point before (those of arcs 0 to k)
+                sign = start * (-1) ** sum(1 for label in alike if label[0] <= k)
+                yield max(times), times, [s.switch_slopes[k] for s in samples], [s.switch_states[k] for s in samples], \
+                    True, sign
 
     def turned():
         for label in reversed(alike):
             (ta, xa), (tm, xm), (tb, xb) = (s.events[label] for s in samples)
             (dta, dxa), (dtm, dxm), (dtb, dxb) = (s.slopes[label] for s in samples)
             yield max(ta, tm, tb), (ta, tm, tb), (dta, dtm, dtb), [
-                (x, dx, -math.cos(x), math.sin(x) * dx) for x, dx in ((xa, dxa), (xm, dxm), (xb, dxb))], False
+                (x, dx, -math.cos(x), math.sin(x) * dx) for x, dx in ((xa, dxa), (xm, dxm), (xb, dxb))], False, 0.0
 
     latest, descending = [arrive, arrive], [True, True]
-    for _, times, t_slopes, states, ends in heapq.merge(recorded(), switched(), turned(), key=lambda p: p[0],
-                                                        reverse=True):
+    for _, times, t_slopes, states, ends, direction in heapq.merge(recorded(), switched(), turned(),
+                                                                   key=lambda p: p[0], reverse=True):
         (xa, dxa, ea, dea), (xm, dxm, em, dem), (xb, dxb, eb, deb) = states
         reach_t, reach_x, reach_e = (_reaches(*times, *t_slopes, h), _reaches(xa, xm, xb, dxa, dxm, dxb, h),
                                      _reaches(ea, em, eb, dea, dem, deb, h))
+        signs = (direction, direction) if not isinstance(direction, list) else _signs(*direction, h)
         for half, (t0, t1, x0, x1, e0, e1) in enumerate(((times[0], times[1], xa, xm, ea, em),
                                                          (times[1], times[2], xm, xb, em, eb))):
             if not descending[half]:
                 continue
             first, last = min(t0, t1) - reach_t[half], max(t0, t1) + reach_t[half]
-            transit = _transit(problem, min(x0, x1) - reach_x[half], max(x0, x1) + reach_x[half],
-                               min(e0, e1) - reach_e[half], max(e0, e1) + reach_e[half])
-            if first + transit > latest[half]:
-                latest[half] = min(latest[half], last - transit)
+            box = (min(x0, x1) - reach_x[half], max(x0, x1) + reach_x[half],
+                   min(e0, e1) - reach_e[half], max(e0, e1) + reach_e[half])
+            after = problem.transit(*box, signs[half])
+            if first + after > latest[half]:       # no arrival after it: one before, by the way back in time
+                latest[half] = min(latest[half], last - (problem.transit(*box, -signs[half]) if signs[half] else after))
             elif last <= latest[half] and ends:
                 descending[half] = False
         if not (descending[0] or descending[1]):
             break
     return latest
+
+
+def _signs(a, m, b, h):
+    """For each half, omega's sign there (0: either) from its (value, slope) at a, m, b, bounded as
+    `_reaches` bounds a function."""
+    (wa, dwa), (wm, dwm), (wb, dwb) = a, m, b
+    reach = _reaches(wa, wm, wb, dwa, dwm, dwb, h)
+    return tuple(1.0 if min(w0, w1) - r > 0 else -1.0 if max(w0, w1) + r < 0 else 0.0
+                 for w0, w1, r in ((wa, wm, reach[0]), (wm, wb, reach[1])))
 
 
 def _dips(label, samples, values, arrive):
@@ -759,10 +753,10 @@ def _dips(label, samples, values, arrive):
 
 def _soonest(problem, events):
     """The earliest time an arrival may follow a turning point seen at `events` ((t, theta) at some
-    samples), judged by those: its least time there, plus the transit (`_transit`, F in [0, 2] at rest)
+    samples), judged by those: its least time there, plus the transit (`Problem.transit`, F in [0, 2] at rest)
     from the nearest of its angles to an allowed target (0 if a target lies between them)."""
     times, angles = zip(*events)
-    return min(times) + _transit(problem, min(angles), max(angles), -1.0, 1.0)
+    return min(times) + problem.transit(min(angles), max(angles), -1.0, 1.0)
 
 
 def _curvatures(fa, fm, fb, sa, sm, sb, h):

@@ -150,6 +150,7 @@ def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0),
     sample.energies = energies or {}
     sample.switch_times, sample.switch_slopes = [t for t, _ in switches], [d for _, d in switches]
     sample.switch_states = [(math.pi, 0.0, 1.0, 0.0)] * len(switches)    # on the upright target: no transit
+    sample.switch_signs = [1.0] * len(switches)
     return sample
 
 
@@ -241,8 +242,8 @@ def test_the_recorded_energy_at_the_acceptance_is_its_definition_and_its_slope_t
 @pytest.mark.parametrize("x0, kappa, phi, u0", [((0.0, 5.0), 0.1, 0.6, 1), ((2.5, -0.3), 0.3, 2.0, 1)])
 def test_the_recorded_switch_states_are_the_state_at_the_switch_and_their_slopes_the_difference_quotients(x0, kappa,
                                                                                                           phi, u0):
-    """_Sample.switch_states: (theta, dtheta/dphi, e, de/dphi) at each switch, theta and e against an
-    integration to the switch's time, the slopes along the switch (the state at t_s(phi)) against
+    """_Sample.switch_states: (theta, dtheta/dphi, e, de/dphi) at each switch, theta and e (and omega's
+    sign, `switch_signs`) against an integration to the switch's time, the slopes along the switch (the state at t_s(phi)) against
     central differences in phi of the samples beside it."""
     family = S._Family(x0, kappa)
     sample, h = S._Sample(family, phi, u0, 30.0), 1e-6
@@ -251,9 +252,10 @@ def test_the_recorded_switch_states_are_the_state_at_the_switch_and_their_slopes
     for k, (_, dtheta, _, de) in enumerate(sample.switch_states[:len(before.switch_states)]):
         assert dtheta == pytest.approx((after.switch_states[k][0] - before.switch_states[k][0]) / (2 * h), rel=1e-4, abs=1e-5)
         assert de == pytest.approx((after.switch_states[k][2] - before.switch_states[k][2]) / (2 * h), rel=1e-4, abs=1e-5)
-    for t, (theta, _, e, _) in zip(sample.switch_times, sample.switch_states):
+    for t, (theta, _, e, _), sign in zip(sample.switch_times, sample.switch_states, sample.switch_signs):
         _, _, _, _, (y, _, _), _ = family.run(phi, u0, t, taylor.SCAN)
         assert (theta, e) == pytest.approx((float(y[0]), 0.5 * float(y[1]) ** 2 - math.cos(float(y[0]))), abs=1e-7)
+        assert sign == math.copysign(1.0, float(y[1])) and abs(float(y[1])) > 1e-3     # never 0 at a switch
 
 
 @pytest.mark.parametrize("kind, kappa", [("swing-up", 0.3), ("damping", 0.3), ("damping", 2.0), ("swing-up", 0.05)])
@@ -337,35 +339,29 @@ def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
 
 
-@pytest.mark.parametrize("omega0, flipped", [(5.0, False), (-5.0, False), (0.0, False), (5.0, True), (-5.0, True)])
-def test_a_shared_state_moving_away_from_the_target_counts_its_turn(omega0, flipped):
-    """`_arrivals_by` with omega's sign: swing-up at kappa = 1 to branch 0 (pi) on the plane from (0,
-    omega0). Samples that share a switch at t = 3 at theta = -40 with e = 30 (43.1 rad before the
-    target, F = 7.9): omega's sign there is the start's, changed by each turning point before it (one
-    at t = 1 on theta = -39.5 where `flipped`), unknown from rest. Moving toward the target (+), an
-    arrival after the switch may be soon (its first turning point, at least reach = (e - 1) / kappa =
-    29 rad on, is before the target), but one before it is a turn and a way back in reversed time: the
-    half's acceptance falls to 3 less that; moving away, to 3 less the one-way transit (and 1 less the
-    turning point's, where one is before). Moving toward it from -10 instead, the pendulum would
-    overshoot the target: the turn counts both ways."""
-    problem = make("swing-up", 1.0, (0.0, omega0), branch=0)
+@pytest.mark.parametrize("signs", [(1.0, 1.0, 1.0), (-1.0, -1.0, -1.0), (1.0, -1.0, 1.0)])
+def test_a_shared_state_moving_away_from_the_target_counts_its_turn(signs):
+    """`_arrivals_by` with omega's sign: swing-up at kappa = 1 to branch 0 (pi) on the plane. Samples
+    that share a switch at t = 3 at theta = -40 with e = 30 (43.1 rad before the target, F = 7.9), where
+    omega has the sign `signs` at each (one along a switch: known where the three agree). Moving toward
+    the target (+), an arrival after the switch may be soon (its first turning point, at least reach =
+    (e - 1) / kappa = 29 rad on, is before the target), but one before it is a turn and a way back in
+    reversed time: the half's acceptance falls to 3 less that; moving away, or the sign unknown, to 3
+    less the one-way transit. Moving toward it from -10 instead, the pendulum would overshoot the
+    target: the turn counts both ways."""
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
     e, theta = 30.0, -40.0
-    sign = np.sign(omega0) * (-1 if flipped else 1)
-    turning = {(0, 0): (1.0, -39.5, 0.0, 0.0)} if flipped else {}
     out = []
-    for phi in (0.0, 0.1, 0.2):
-        sample = fake_sample(phi, None, 0.0, (0.5, 0.0, 0.3, 0.0, 20.0, 0.0), events=turning, switches=((3.0, 0.0),))
-        sample.switch_states = [(theta, 0.0, e, 0.0)]
+    for phi, sign in zip((0.0, 0.1, 0.2), signs):
+        sample = fake_sample(phi, None, 0.0, (0.5, 0.0, 0.3, 0.0, 20.0, 0.0), switches=((3.0, 0.0),))
+        sample.switch_states, sample.switch_signs = [(theta, 0.0, e, 0.0)], [sign]
         out.append(sample)
     one_way, turn = problem.transit(theta, theta, e, e), problem.transit(theta, theta, e, e, -1.0)
     assert turn > 2.5 * one_way
     assert problem.transit(theta, theta, e, e, 1.0) == one_way
     assert problem.transit(-10.0, -10.0, e, e, 1.0) > 1.5 * problem.transit(-10.0, -10.0, e, e)
-    expected = 3.0 - problem.transit(theta, theta, e, e, -sign)
-    if flipped:
-        expected = min(expected, 1.0 - problem.transit(-39.5, -39.5, -math.cos(39.5), -math.cos(39.5)))
+    expected = 3.0 - (turn if signs == (1.0, 1.0, 1.0) else one_way)
     assert S._arrivals_by(problem, *out, 8.0, 0.1) == pytest.approx([expected] * 2, rel=1e-12)
-    assert (expected < 3.0 - turn + 1e-9) == (sign > 0)
 
 
 def test_omega_s_sign_on_a_half_is_known_where_its_values_and_slopes_bound_it_away_from_zero():

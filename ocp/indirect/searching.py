@@ -95,7 +95,7 @@ nearest target; where omega's sign is known, a state moving away from an arrival
 one before it, turns first: Problem.lower_bound's argument from any state), so none lies within
 that of a state bounded on the half (at t_a and the other times the samples recorded, and at the
 switches they share, where they see the same switches and turning points before it: omega's sign
-there is the start's, changed at each of those); descending from t_a, each window that reaches the acceptance lowers it (swing-up
+is one along a switch, never 0 there, p1 omega = 1); descending from t_a, each window that reaches the acceptance lowers it (swing-up
 from (-1.41, 8.03) to branch -2 on the plane at kappa = 0.296, whose extremals are near the bottom
 65 pi away at t_a = 56: stopped at 38 s with 192,026 extremals before, 46,060 to the optimum after;
 damping from (2.5, -0.3) at kappa = 0.1: 9,092 extremals before, 1,648 after), and a half whose
@@ -441,11 +441,12 @@ class _Sample:
     `ends` (e = omega^2 / 2 - cos(theta), the pendulum's energy without the torque's work), each arc's energy
     and its derivative in phi, arc -> (E, dE/dphi) in `energies` (`_energy`), the switches' times and
     their derivatives in phi in `switch_times`, `switch_slopes`, the state there, (theta, dtheta/dphi,
-    e, de/dphi) in `switch_states` (derivatives along the switch, t_s(phi)), and where the integration
-    ended (to extend it from there)."""
+    e, de/dphi) in `switch_states` (derivatives along the switch, t_s(phi)), omega's sign there in
+    `switch_signs` (never 0: p1 omega = 1 at a switch), and where the integration ended (to extend it
+    from there)."""
 
     __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end", "energies", "switch_times",
-                 "switch_slopes", "switch_states")
+                 "switch_slopes", "switch_states", "switch_signs")
 
     def seen(self, horizon):
         """The labels of the turning points before `horizon`."""
@@ -474,7 +475,7 @@ class _Sample:
         self.duration, self.end = 0.0, None
         theta0, omega0 = family.x0
         self.energies = {0: (_energy(theta0, omega0, _torque(family.kappa, u0, 0)), 0.0)}
-        self.switch_times, self.switch_slopes, self.switch_states = [], [], []
+        self.switch_times, self.switch_slopes, self.switch_states, self.switch_signs = [], [], [], []
         self.integrate(family, duration)
 
     def integrate(self, family, duration):
@@ -496,6 +497,7 @@ class _Sample:
             # it) + omega dt_s
             dtheta_s = dtheta + omega * dt
             self.switch_states.append((theta, dtheta_s, energy[0] + torque * theta, energy[1] + torque * dtheta_s))
+            self.switch_signs.append(math.copysign(1.0, omega))
         last = 0
         for t, theta, arc, i, _, _, dtheta, dt in events.tolist():
             label = arcs + int(arc), int(i) + (index if arc == 0 else 0)
@@ -668,8 +670,8 @@ def _arrivals_by(problem, a, m, b, arrive, h):
     the transit with omega's sign reversed earlier (run backwards in time): none is within those of a
     state bounded on the half (at a time a, m and b recorded, `_Sample.ends`, omega's sign bounded too
     (`_signs`), or at a switch or a turning point they all see: its time, angle and e bounded by their
-    values and slopes, `_reaches`; omega's sign at a switch is the start's, changed at each turning
-    point before it),
+    values and slopes, `_reaches`; omega's sign at a switch, never 0 there (p1 omega = 1), is one
+    along it, known where the three samples agree),
     where the three see the same switches and turning points before it (where they do not, the family
     changes between them in ways their values and slopes need not show: an abnormal end's switches,
     moving by thousands per radian). From the latest of those states down, each whose window reaches
@@ -682,7 +684,6 @@ def _arrivals_by(problem, a, m, b, arrive, h):
     shared = next((i for i, (la, lm, lb) in enumerate(zip(a.events, m.events, b.events)) if not la == lm == lb),
                   min(len(s.events) for s in samples))
     alike = list(itertools.islice(a.events, shared))
-    start = math.copysign(1.0, problem.x0[1]) if problem.x0[1] != 0.0 else 0.0     # omega's sign from t = 0
     differ = [next(itertools.islice(s.events.values(), shared, None), (math.inf,))[0] for s in samples]
 
     def recorded():
@@ -696,10 +697,10 @@ def _arrivals_by(problem, a, m, b, arrive, h):
         for k in range(min(len(s.switch_times) for s in samples) - 1, -1, -1):
             times = [s.switch_times[k] for s in samples]
             if all(t < d for t, d in zip(times, differ)):
-                # omega's sign there: the start's, changed at each turning point before (those of arcs 0 to k)
-                sign = start * (-1) ** sum(1 for label in alike if label[0] <= k)
+                # omega's sign, never 0 at a switch, is one along it: known where the three agree
+                signs = {s.switch_signs[k] for s in samples}
                 yield max(times), times, [s.switch_slopes[k] for s in samples], [s.switch_states[k] for s in samples], \
-                    True, sign
+                    True, signs.pop() if len(signs) == 1 else 0.0
 
     def turned():
         for label in reversed(alike):

@@ -135,9 +135,9 @@ extremals; 9,236 before the transit bound, 33,040 before the energy bound too, w
 extremals reaching a saddle coarser; at kappa = 0.05, 7,711 extremals, and over 85,000 before the
 transit bound); so does a fast start braking at small kappa to rest, whose braking ends near the
 separatrix (damping from (0, 25) at kappa = 0.25: 5.2e3 extremals); so does a target many turns
-away on the plane (swing-up to branch 20 at kappa = 0.5: 1.2e3 extremals to the optimum, 3.9e3
-more to a runner-up 15 % slower, which the search does not pay: the scan for the runner-up
-integrates at most RUNNER_UP_BUDGET times the extremals before it, or RUNNER_UP_FLOOR). A fast start costs in the length of its
+away on the plane (swing-up to branch 20 at kappa = 0.5: 1.1e3 extremals to the optimum, 1.9e3
+more to a runner-up 15 % slower: the scan for the runner-up integrates at most RUNNER_UP_BUDGET
+times the extremals before it, or RUNNER_UP_FLOOR, and past that the optimum is reported without one). A fast start costs in the length of its
 extremals more than in their number, where kappa is small: swing-up from (0, 50), 369 extremals at
 kappa = 1 (T = 49), 733 of length 500 to 800 at kappa = 0.1 (T = 489), 773 at kappa = 0.05
 (T = 976: the family brakes to the upright together, its first turning points within 1 % of T, and
@@ -208,7 +208,7 @@ RESCAN = 0.97
 MARGIN = 0.2
 #: ... integrating at most this many times the extremals of the scans before it (the optimum's), or
 #: RUNNER_UP_FLOOR if more; past that, the search reports the optimum without a runner-up (swing-up
-#: to branch 20 at kappa = 0.5: 1.2e3 extremals to the optimum, 3.9e3 more to a runner-up 15 %
+#: to branch 20 at kappa = 0.5: 1.1e3 extremals to the optimum, 1.9e3 more to a runner-up 15 %
 #: slower; the standard swing-up at kappa = 0.05: 61, then 96 more)
 RUNNER_UP_BUDGET = 1.0
 RUNNER_UP_FLOOR = 2000

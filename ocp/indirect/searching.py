@@ -691,31 +691,30 @@ def _arrivals_by(problem, a, m, b, arrive, h):
             if t < min(differ) and bisect.bisect_right(a.switch_times, t) == bisect.bisect_right(
                     m.switch_times, t) == bisect.bisect_right(b.switch_times, t):
                 yield t, (t, t, t), (0.0, 0.0, 0.0), [s.ends[t][4:] + s.ends[t][2:4] for s in samples], True, \
-                    [s.ends[t][:2] for s in samples]
+                    _signs(*(s.ends[t][:2] for s in samples), h)
 
     def switched():
         for k in range(min(len(s.switch_times) for s in samples) - 1, -1, -1):
             times = [s.switch_times[k] for s in samples]
             if all(t < d for t, d in zip(times, differ)):
                 # omega's sign, never 0 at a switch, is one along it: known where the three agree
-                signs = {s.switch_signs[k] for s in samples}
+                sign = a.switch_signs[k] if a.switch_signs[k] == m.switch_signs[k] == b.switch_signs[k] else 0.0
                 yield max(times), times, [s.switch_slopes[k] for s in samples], [s.switch_states[k] for s in samples], \
-                    True, signs.pop() if len(signs) == 1 else 0.0
+                    True, (sign, sign)
 
     def turned():
         for label in reversed(alike):
             (ta, xa), (tm, xm), (tb, xb) = (s.events[label] for s in samples)
             (dta, dxa), (dtm, dxm), (dtb, dxb) = (s.slopes[label] for s in samples)
             yield max(ta, tm, tb), (ta, tm, tb), (dta, dtm, dtb), [
-                (x, dx, -math.cos(x), math.sin(x) * dx) for x, dx in ((xa, dxa), (xm, dxm), (xb, dxb))], False, 0.0
+                (x, dx, -math.cos(x), math.sin(x) * dx) for x, dx in ((xa, dxa), (xm, dxm), (xb, dxb))], False, (0.0, 0.0)
 
     latest, descending = [arrive, arrive], [True, True]
-    for _, times, t_slopes, states, ends, direction in heapq.merge(recorded(), switched(), turned(),
-                                                                   key=lambda p: p[0], reverse=True):
+    for _, times, t_slopes, states, ends, signs in heapq.merge(recorded(), switched(), turned(), key=lambda p: p[0],
+                                                               reverse=True):
         (xa, dxa, ea, dea), (xm, dxm, em, dem), (xb, dxb, eb, deb) = states
         reach_t, reach_x, reach_e = (_reaches(*times, *t_slopes, h), _reaches(xa, xm, xb, dxa, dxm, dxb, h),
                                      _reaches(ea, em, eb, dea, dem, deb, h))
-        signs = (direction, direction) if not isinstance(direction, list) else _signs(*direction, h)
         for half, (t0, t1, x0, x1, e0, e1) in enumerate(((times[0], times[1], xa, xm, ea, em),
                                                          (times[1], times[2], xm, xb, em, eb))):
             if not descending[half]:

@@ -62,6 +62,38 @@ def test_progress_says_which_start_and_iteration(monkeypatch):
     assert any("ipopt, start 1 of 1 (backswing), iteration" in line for line in lines)
 
 
+WATCHED_BLOCKS = """
+import signal, threading, time
+from ocp.direct import watch
+watch.POLL_S = 3600.0
+assert signal.getsignal(signal.SIGINT) is signal.default_int_handler   # the wake-up pipe is used
+elapsed = []
+
+def block():
+    start = time.perf_counter()
+    with watch.watched():
+        time.sleep(0.05)        # the watcher is in its wait by then
+    elapsed.append(time.perf_counter() - start)
+
+block()
+thread = threading.Thread(target=block)
+thread.start()
+thread.join()
+print(max(elapsed))
+"""
+
+
+def test_the_end_of_a_watched_solve_wakes_the_watcher_at_once():
+    """Leaving `watched` does not wait for the watcher's next look at the clock (it waited up to
+    POLL_S, which rounded every direct solve's wall time up to a multiple of 0.1 s): in a process of
+    its own (Python's SIGINT handler, the wake-up descriptor free), with POLL_S an hour, a block of
+    0.05 s ends at once, in the main thread (the watcher selects on the SIGINT wake-up pipe) and in another (no
+    pipe: it waits on the event the block's end sets)."""
+    run = subprocess.run([sys.executable, "-c", WATCHED_BLOCKS], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert float(run.stdout) < 60.0
+
+
 def test_sigint_stops_ipopt_at_its_next_iteration(monkeypatch):
     """In process: SIGINT while IPOPT iterates raises KeyboardInterrupt through its iteration
     callback, well within the grace after which the watcher would end the process (set long here)."""

@@ -27,6 +27,9 @@ from ..core.output import QUIET_S
 
 GRACE_S = 1.5
 EVERY_S = 1.0
+#: how often the watcher looks at the clock (the grace after SIGINT, progress); the end of the solve
+#: wakes it at once
+POLL_S = 0.1
 
 
 class Watch:
@@ -123,6 +126,8 @@ def watched(progress=None):
         watch.check()
     finally:
         done.set()
+        if wake is not None:
+            os.write(restore[2][1], b"\0")  # wakes the watcher's select at once (not SIGINT's byte)
         thread.join()
         _current = previous
         if restore:
@@ -167,8 +172,8 @@ def _watcher(watch, done, wake):
     try:
         while not done.wait(0.0):
             if wake is None:
-                done.wait(0.1)
-            elif select.select([wake], [], [], 0.1)[0] and signal.SIGINT in os.read(wake, 64):
+                done.wait(POLL_S)
+            elif select.select([wake], [], [], POLL_S)[0] and signal.SIGINT in os.read(wake, 64):
                 if watch.interrupted is None:
                     watch.interrupted = time.perf_counter()
             now = time.perf_counter()

@@ -209,7 +209,7 @@ MARGIN = 0.2
 #: ... integrating at most this many times the extremals of the scans before it (the optimum's), or
 #: RUNNER_UP_FLOOR if more; past that, the search reports the optimum without a runner-up (swing-up
 #: to branch 20 at kappa = 0.5: 1.1e3 extremals to the optimum, 1.9e3 more to a runner-up 15 %
-#: slower; the standard swing-up at kappa = 0.05: 61, then 96 more)
+#: slower; the standard swing-up at kappa = 0.05: 60, then 94 more)
 RUNNER_UP_BUDGET = 1.0
 RUNNER_UP_FLOOR = 2000
 #: the horizon grows by this factor while no arrival is found, up to the larger of MAX_HORIZON and

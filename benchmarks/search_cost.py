@@ -56,7 +56,7 @@ def random_cases(n, seed, wide=False):
     theta0 (seven in ten) or any within 1000 rad of it."""
     import numpy as np
 
-    from ocp.core.problem import KINDS, THETA_LIMIT
+    from ocp.core.problem import KAPPA_RANGE, KINDS, OMEGA_LIMIT, THETA_LIMIT
 
     rng = np.random.default_rng(seed)
     cases = []
@@ -68,9 +68,9 @@ def random_cases(n, seed, wide=False):
             cases.append((kind, round(kappa, 4), (round(x0[0], 3), round(x0[1], 2)),
                           None if rng.random() < 0.5 else int(rng.integers(-2, 3))))
             continue
-        kappa = round(float(10 ** rng.uniform(math.log10(0.05), 1)), 4)
+        kappa = round(float(10 ** rng.uniform(math.log10(KAPPA_RANGE[0]), 1)), 4)
         theta0 = round(float(rng.uniform(-THETA_LIMIT, THETA_LIMIT) if rng.random() < 0.3 else rng.uniform(-math.pi, math.pi)), 3)
-        omega0 = round(float(rng.uniform(-50, 50)), 2)
+        omega0 = round(float(rng.uniform(-OMEGA_LIMIT, OMEGA_LIMIT)), 2)
         branch, base = None, KINDS[kind].target_base
         if rng.random() < 0.5:
             lo = math.ceil((theta0 - THETA_LIMIT - base) / (2 * math.pi))

@@ -148,7 +148,8 @@ def test_the_transit_over_a_box_of_states_is_below_the_transit_from_each():
     """`Problem.transit` over theta in [lo, hi], e in [e_lo, e_hi] with omega's sign known is below its
     value at every state of the box (the states on a 9 x 9 grid, each the energy bound of a start there,
     `lower_bound`, checked against its definition above), on both readings; with the sign unknown,
-    below both signs'. Boxes of 0 to 40 rad and 0 to 50 in e, from rest to fast, near and far."""
+    below both signs'. 300 boxes: theta from -300 rad, e_lo from -1 (rest at the bottom) to 200, widths
+    exponential (mean 10 rad, 10 in e); both kinds, kappa 0.05 to 10, the circle or a branch within 50."""
     rng = np.random.default_rng(11)
     for _ in range(300):
         kind, kappa = ("swing-up", "damping")[rng.integers(2)], float(np.exp(rng.uniform(np.log(0.05), np.log(10))))

@@ -339,6 +339,45 @@ def test_the_acceptance_of_a_half_falls_by_the_transit_time_from_the_states_its_
     assert S._arrivals_by(problem, a, m, b, 8.0, 0.1) == [8.0, 8.0]
 
 
+def test_a_turning_point_is_no_earlier_than_the_switch_before_its_arc():
+    """`_arrivals_by` in label order: swing-up at kappa = 1 to branch 0 (pi) on the plane, samples
+    recorded at the acceptance t = 8 at rest 0.001 rad past the target (a transit bound of 5e-4: the
+    acceptance falls to L = 8 - 5e-4), sharing a switch at t = 3 at theta = 10 (e = 0.3) that ends arc
+    0, and a turning point of arc 1 at t = 6 on theta = 40 whose time's slopes (-70, 0, 70) leave its
+    window [-1, 13]. Along each extremal the turning point comes after the switch, so its least time is
+    3, and 3 plus its transit (8.9, from 36.9 rad away) is after L: the acceptance falls to 13 - 8.9,
+    the descent goes on to the switch, which lowers it to 3 less its own transit. Were the same turning
+    point on arc 0 (its window then ends at 3, not after the switch), -1 + 8.9 is before L, and so is
+    the switch's 3 + 2.8: the descent ends there, at L."""
+    problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
+    e, near = 0.3, math.pi + 0.001
+
+    def samples(arc):
+        out = []
+        for phi, dt in zip((0.0, 0.1, 0.2), (-70.0, 0.0, 70.0)):
+            sample = fake_sample(phi, None, 0.0, (0.0, 0.0, -math.cos(near), 0.0, near, 0.0),
+                                 events={(arc, 0): (6.0, 40.0, dt, 0.0)}, switches=((3.0, 0.0),))
+            sample.switch_states = [(10.0, 0.0, e, 0.0)]
+            out.append(sample)
+        return out
+
+    accept = 8.0 - problem.transit(near, near, -math.cos(near), -math.cos(near))
+    assert 7.99 < accept < 8.0 and 3.0 + problem.transit(40.0, 40.0, -math.cos(40.0), -math.cos(40.0)) > accept
+    assert S._arrivals_by(problem, *samples(1), 8.0, 0.1) == pytest.approx([3.0 - problem.transit(10.0, 10.0, e, e)] * 2)
+    assert S._arrivals_by(problem, *samples(0), 8.0, 0.1) == pytest.approx([accept] * 2)
+
+
+@pytest.mark.parametrize("lo, hi", [(0.3, 0.5), (-0.2, 0.4), (2.9, 3.5), (-7.0, -5.9), (40.0, 40.0), (1.0, 8.0),
+                                    (-3.3, -3.0), (6.0, 6.5)])
+def test_the_range_of_minus_cosine_is_that_of_a_dense_grid(lo, hi):
+    """`_cosine_range`: the least and greatest -cos(theta) over [lo, hi], against a grid of 10^5 points
+    (its ends and any multiple of pi inside: 1e-9 closer)."""
+    grid = -np.cos(np.linspace(lo, hi, 100_001))
+    low, high = S._cosine_range(lo, hi)
+    assert low <= grid.min() + 1e-15 and high >= grid.max() - 1e-15
+    assert low == pytest.approx(grid.min(), abs=1e-9) and high == pytest.approx(grid.max(), abs=1e-9)
+
+
 @pytest.mark.parametrize("signs", [(1.0, 1.0, 1.0), (-1.0, -1.0, -1.0), (1.0, -1.0, 1.0)])
 def test_a_shared_state_moving_away_from_the_target_counts_its_turn(signs):
     """`_arrivals_by` with omega's sign: swing-up at kappa = 1 to branch 0 (pi) on the plane. Samples

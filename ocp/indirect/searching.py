@@ -677,7 +677,10 @@ def _arrivals_by(problem, a, m, b, arrive, h):
     moving by thousands per radian). From the latest of those states down, each whose window reaches
     above the latest time left lowers it to the window's start; the first record or switch below it
     whose window does not ends that half's descent (a turning point does not: near a target its window
-    is small, and the switch before it may reach far)."""
+    is small, and the switch before it may reach far). Two facts tighten a window: along each
+    extremal the shared switches and turning points come in their label order (switch k ends arc k),
+    so each is no earlier than the least time bounded for any before it, and no later than the latest
+    of any after it; and a turning point's e is -cos(theta), bounded by its angle's window."""
     samples = (a, m, b)
     # the turning points the three see alike, the first `shared` (`events` is in time order), and the
     # time of each sample's first that they do not
@@ -686,42 +689,61 @@ def _arrivals_by(problem, a, m, b, arrive, h):
     alike = list(itertools.islice(a.events, shared))
     differ = [next(itertools.islice(s.events.values(), shared, None), (math.inf,))[0] for s in samples]
 
+    # the window of each shared switch (k, 1) and turning point (j, 0, i) on each half, (least, latest),
+    # narrowed to the least times of those before it and the latest of those after it in label order
+    switches = [k for k in range(min(len(s.switch_times) for s in samples))
+                if all(s.switch_times[k] < d for s, d in zip(samples, differ))]
+    order, windows = sorted([(k, 1) for k in switches] + [(j, 0, i) for j, i in alike]), {}
+    for key in order:
+        if len(key) == 2:
+            times, slopes = [s.switch_times[key[0]] for s in samples], [s.switch_slopes[key[0]] for s in samples]
+        else:
+            times, slopes = [s.events[key[0], key[2]][0] for s in samples], [s.slopes[key[0], key[2]][0] for s in samples]
+        reach = _reaches(*times, *slopes, h)
+        windows[key] = [[min(t0, t1) - r, max(t0, t1) + r] for t0, t1, r in zip(times[:2], times[1:], reach)]
+    for before, after in zip(order[:-1], order[1:]):
+        for half in (0, 1):
+            windows[after][half][0] = max(windows[after][half][0], windows[before][half][0])
+    for before, after in zip(order[-2::-1], order[:0:-1]):
+        for half in (0, 1):
+            windows[before][half][1] = min(windows[before][half][1], windows[after][half][1])
+
     def recorded():
         for t in sorted(a.ends.keys() & m.ends.keys() & b.ends.keys(), reverse=True):
             if t < min(differ) and bisect.bisect_right(a.switch_times, t) == bisect.bisect_right(
                     m.switch_times, t) == bisect.bisect_right(b.switch_times, t):
-                yield t, (t, t, t), (0.0, 0.0, 0.0), [s.ends[t][4:] + s.ends[t][2:4] for s in samples], True, \
-                    _signs(*(s.ends[t][:2] for s in samples), h)
+                yield t, [s.ends[t][4:] + s.ends[t][2:4] for s in samples], True, \
+                    _signs(*(s.ends[t][:2] for s in samples), h), ((t, t), (t, t))
 
     def switched():
-        for k in range(min(len(s.switch_times) for s in samples) - 1, -1, -1):
+        for k in reversed(switches):
             times = [s.switch_times[k] for s in samples]
-            if all(t < d for t, d in zip(times, differ)):
-                # omega's sign, never 0 at a switch, is one along it: known where the three agree
-                sign = a.switch_signs[k] if a.switch_signs[k] == m.switch_signs[k] == b.switch_signs[k] else 0.0
-                yield max(times), times, [s.switch_slopes[k] for s in samples], [s.switch_states[k] for s in samples], \
-                    True, (sign, sign)
+            # omega's sign, never 0 at a switch, is one along it: known where the three agree
+            sign = a.switch_signs[k] if a.switch_signs[k] == m.switch_signs[k] == b.switch_signs[k] else 0.0
+            yield max(times), [s.switch_states[k] for s in samples], True, (sign, sign), windows[k, 1]
 
     def turned():
         for label in reversed(alike):
-            (ta, xa), (tm, xm), (tb, xb) = (s.events[label] for s in samples)
-            (dta, dxa), (dtm, dxm), (dtb, dxb) = (s.slopes[label] for s in samples)
-            yield max(ta, tm, tb), (ta, tm, tb), (dta, dtm, dtb), [
-                (x, dx, -math.cos(x), math.sin(x) * dx) for x, dx in ((xa, dxa), (xm, dxm), (xb, dxb))], False, (0.0, 0.0)
+            yield max(s.events[label][0] for s in samples), [
+                (x, dx, -math.cos(x), math.sin(x) * dx) for x, dx in ((s.events[label][1], s.slopes[label][1]) for s in samples)], \
+                False, (0.0, 0.0), windows[label[0], 0, label[1]]
 
     latest, descending = [arrive, arrive], [True, True]
-    for _, times, t_slopes, states, ends, signs in heapq.merge(recorded(), switched(), turned(), key=lambda p: p[0],
-                                                               reverse=True):
+    for _, states, ends, signs, window in heapq.merge(recorded(), switched(), turned(),
+                                                      key=lambda p: p[0], reverse=True):
         (xa, dxa, ea, dea), (xm, dxm, em, dem), (xb, dxb, eb, deb) = states
-        reach_t, reach_x, reach_e = (_reaches(*times, *t_slopes, h), _reaches(xa, xm, xb, dxa, dxm, dxb, h),
-                                     _reaches(ea, em, eb, dea, dem, deb, h))
-        for half, (t0, t1, x0, x1, e0, e1) in enumerate(((times[0], times[1], xa, xm, ea, em),
-                                                         (times[1], times[2], xm, xb, em, eb))):
+        reach_x, reach_e = _reaches(xa, xm, xb, dxa, dxm, dxb, h), _reaches(ea, em, eb, dea, dem, deb, h)
+        for half, (x0, x1, e0, e1) in enumerate(((xa, xm, ea, em), (xm, xb, em, eb))):
             if not descending[half]:
                 continue
-            first, last = min(t0, t1) - reach_t[half], max(t0, t1) + reach_t[half]
+            first, last = window[half]
             box = (min(x0, x1) - reach_x[half], max(x0, x1) + reach_x[half],
                    min(e0, e1) - reach_e[half], max(e0, e1) + reach_e[half])
+            if not ends:                    # a turning point: e = -cos(theta) on its angle's window
+                low, high = _cosine_range(box[0], box[1])
+                if max(low, box[2]) <= min(high, box[3]):
+                    low, high = max(low, box[2]), min(high, box[3])
+                box = (box[0], box[1], low, high)
             after = problem.transit(*box, signs[half])
             if first + after > latest[half]:       # no arrival after it: one before, by the way back in time
                 latest[half] = min(latest[half], last - (problem.transit(*box, -signs[half]) if signs[half] else after))
@@ -730,6 +752,15 @@ def _arrivals_by(problem, a, m, b, arrive, h):
         if not (descending[0] or descending[1]):
             break
     return latest
+
+
+def _cosine_range(lo, hi):
+    """The range of -cos(theta) over theta in [lo, hi]: -1 where a multiple of 2 pi lies in it, 1 where an
+    odd multiple of pi does, else the larger and smaller of its ends'."""
+    ends = (-math.cos(lo), -math.cos(hi))
+    low = -1.0 if math.floor(hi / (2 * math.pi)) * 2 * math.pi >= lo else min(ends)
+    high = 1.0 if math.floor((hi - math.pi) / (2 * math.pi)) * 2 * math.pi + math.pi >= lo else max(ends)
+    return low, high
 
 
 def _signs(a, m, b, h):
@@ -848,6 +879,18 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # arc j on where a switch before arc j that a, m and b record is after it on the whole half
     late, common, switched = [False, False], min(len(s.switch_times) for s in (a, m, b)), {}
 
+    def switch_after(label, by):
+        """For each half, whether the last switch a, m and b record before `label`'s arc is after `by`
+        (bounded by its values and slopes, `_reaches`) on the whole half: then so is the label."""
+        switch = min(label[0], common) - 1
+        if switch < 0:
+            return False, False
+        if (switch, by) not in switched:
+            times = [s.switch_times[switch] for s in (a, m, b)]
+            reach_s = _reaches(*times, *(s.switch_slopes[switch] for s in (a, m, b)), h)
+            switched[switch, by] = (min(times[:2]) - reach_s[0] > by[0], min(times[1:]) - reach_s[1] > by[1])
+        return switched[switch, by]
+
     def verdict(label, by):
         """What `label` asks of [a, b] where arrivals on each half are before `by`: None (nothing),
         ("split", soonest, nearest approach) or ("found", brackets); `late` updated."""
@@ -861,13 +904,8 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                 if v is None and s.duration < extended:
                     s.integrate(family, extended)
             values = [s.events.get(label) for s in (a, m, b)]
-            switch = min(label[0], common) - 1
-            if None in values and switch >= 0:      # the switch before its arc: after the acceptance?
-                if (switch, by) not in switched:
-                    times = [s.switch_times[switch] for s in (a, m, b)]
-                    reach_s = _reaches(*times, *(s.switch_slopes[switch] for s in (a, m, b)), h)
-                    switched[switch, by] = (min(times[:2]) - reach_s[0] > by[0], min(times[1:]) - reach_s[1] > by[1])
-                late = [late[0] or switched[switch, by][0], late[1] or switched[switch, by][1]]
+            if None in values:                      # the switch before its arc: after the acceptance?
+                late = [late[0] or switch_after(label, by)[0], late[1] or switch_after(label, by)[1]]
                 if late[0] and late[1]:
                     return None
             if None in values:
@@ -886,6 +924,8 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         if not (early[0] and early[1]):     # a half after the acceptance at both ends: may it dip before?
             reach_t = _reaches(ta, tm, tb, dta, dtm, dtb, h)
             late = [late[0] or min(ta, tm) - reach_t[0] > by[0], late[1] or min(tm, tb) - reach_t[1] > by[1]]
+            if not (late[0] and late[1]):   # or the switch before it (a turning point's time may dip far)
+                late = [late[0] or switch_after(label, by)[0], late[1] or switch_after(label, by)[1]]
             early = (not late[0], not late[1])
         early = (early[0] and not after[0], early[1] and not after[1])
         if not (early[0] or early[1]):      # the turning point's time stays after the acceptance

@@ -155,16 +155,14 @@ def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0),
 
 
 @pytest.mark.parametrize("thetas, slopes, split, brackets", [
-    ((2.8, 2.9, 3.0), (1.0, 1.0, 1.0), (False, False), []),          # a straight line below pi: nothing to find
-    ((3.0, 3.1, 3.2), (1.0, 1.0, 1.0), (False, False), [(0.1, 0.2)]),  # one crossing of pi, in the second half
-    ((2.8, 2.9, 3.0), (1.0, -20.0, 1.0), (True, True), []),          # the same values, an excursion between them
-    ((3.0, 3.2, 3.3), (2.0, 2.0, -1.0), (False, True), [(0.0, 0.1)]),  # through pi on [a, m]; turning back near it on
-])                                                                    # [m, b]: that half alone is split
+    ((2.8, 2.9, 3.0), (1.0, 1.0, 1.0), False, []),          # a straight line below pi: nothing to find
+    ((3.0, 3.1, 3.2), (1.0, 1.0, 1.0), False, [(0.1, 0.2)]),  # one crossing of pi, in the second half
+    ((2.8, 2.9, 3.0), (1.0, -20.0, 1.0), True, []),          # the same values, an excursion between them
+])
 def test_the_interval_test_bounds_a_turning_point_by_its_values_and_slopes(thetas, slopes, split, brackets):
     """The values alone (monotone, the midpoint on the chord: what the sampling heuristic accepted)
     cannot tell a straight line from an excursion that turns back between the samples (the slope
-    -20 at the midpoint, against the chord's 1): the bound from the slopes splits the interval. Each half is
-    judged alone: one monotone through pi keeps its bracket while the other is split."""
+    -20 at the midpoint, against the chord's 1): the bound from the slopes splits the interval."""
     problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
     a, m, b = (fake_sample(phi, th, s) for phi, th, s in zip((0.0, 0.1, 0.2), thetas, slopes))
     found_split, _, found, _ = S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)
@@ -178,16 +176,15 @@ def test_a_turning_point_seen_by_no_sample_is_looked_for_where_omega_at_the_acce
     An omega(phi) bounded away from zero by its values and slopes resolves the interval; one that
     may dip through zero (0.5, 0.4, 0.5 with slopes -10, 0, 10) splits it."""
     problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
-    for omegas, slopes, split in (((0.5, 0.4, 0.5), (-1.0, 0.0, 1.0), (False, False)),
-                                  ((0.5, 0.4, 0.5), (-10.0, 0.0, 10.0), (True, True))):
+    for omegas, slopes, split in (((0.5, 0.4, 0.5), (-1.0, 0.0, 1.0), False), ((0.5, 0.4, 0.5), (-10.0, 0.0, 10.0), True)):
         a, m, b = (fake_sample(phi, 2.0 + phi, 1.0, (w, s)) for phi, w, s in zip((0.0, 0.1, 0.2), omegas, slopes))
         assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == split
 
 
 @pytest.mark.parametrize("t_b, slopes, split", [
-    (8.5, (-1.0, 0.0, 1.0), (False, False)),    # omega at t = 8 has no zero: no turning point crosses t = 8, none before it
-    (8.5, (-10.0, 0.0, 10.0), (True, True)),    # omega may have two zeros on each half: one may dip before t = 8
-    (7.5, (-1.0, 0.0, 1.0), (False, True)),     # seen before t = 8 at b, not at m: it crosses t = 8 between them
+    (8.5, (-1.0, 0.0, 1.0), False),     # omega at t = 8 has no zero: no turning point crosses t = 8, none before it
+    (8.5, (-10.0, 0.0, 10.0), True),    # omega may have two zeros between m and b: one may dip before t = 8
+    (7.5, (-1.0, 0.0, 1.0), True),      # seen before t = 8 at b, not at m: it crosses t = 8 between them
 ])
 def test_a_turning_point_after_the_acceptance_where_seen_is_after_it_where_omega_then_has_no_zero(t_b, slopes, split):
     """A turning point seen at b only (a, m integrated to 15 without it), at t = 8.5: after the
@@ -203,9 +200,9 @@ def test_a_turning_point_after_the_acceptance_where_seen_is_after_it_where_omega
 
 
 @pytest.mark.parametrize("energies, slopes, split", [
-    ((3.0, 3.0, 3.0), (0.0, 0.0, 0.0), (False, False)),     # e(8, .) > 1: a rotation at t = 8, omega has no zero
-    ((1.2, 1.1, 1.2), (-10.0, 0.0, 10.0), (True, True)),    # e may dip below 1 between the samples
-    ((3.0, 0.9, 3.0), (0.0, 0.0, 0.0), (True, True)),       # e < 1 at m
+    ((3.0, 3.0, 3.0), (0.0, 0.0, 0.0), False),      # e(8, .) > 1: a rotation at t = 8, omega has no zero
+    ((1.2, 1.1, 1.2), (-10.0, 0.0, 10.0), True),    # e may dip below 1 between the samples
+    ((3.0, 0.9, 3.0), (0.0, 0.0, 0.0), True),       # e < 1 at m
 ])
 def test_omega_at_the_acceptance_has_no_zero_where_the_energy_then_is_above_the_upright(energies, slopes, split):
     """The construction above (a turning point seen at b only, at t = 8.5, after the acceptance t = 8),
@@ -438,7 +435,7 @@ def test_a_half_whose_arrivals_would_precede_the_least_time_from_the_start_holds
     least, by = problem.lower_bound, S._arrivals_by(problem, a, m, b, 8.0, 0.1)
     assert (max(by) < least) == (not split)
     assert by == pytest.approx([descent_ends - problem.transit(theta, theta, e, e)] * 2)
-    assert S._examine(problem, None, a, m, b, 8.0, 15.0)[0] == (split, split)
+    assert S._examine(problem, None, a, m, b, 8.0, 15.0)[0] == split
 
 
 def test_a_label_absent_at_both_ends_of_a_settled_half_leaves_the_later_labels_to_be_examined():
@@ -460,10 +457,10 @@ def test_a_label_absent_at_both_ends_of_a_settled_half_leaves_the_later_labels_t
 
 
 @pytest.mark.parametrize("energy, switches, split", [
-    (0.0, [[(12.0, 0.0)]] * 3, (False, False)),                        # arc 0 runs through t = 8: resolved
-    (1 - math.pi, [[(12.0, 0.0)]] * 3, (True, True)),                  # its energy at the target's level
-    (0.0, [[(12.0, 0.0)], [(12.0, 0.0)], [(8.5, 0.0)]], (True, True)), # its end may dip below t = 8 between m, b
-    (0.0, [[]] * 3, (True, True)),                                     # its end not recorded: unknown
+    (0.0, [[(12.0, 0.0)]] * 3, False),                                 # arc 0 runs through t = 8: resolved
+    (1 - math.pi, [[(12.0, 0.0)]] * 3, True),                          # its energy at the target's level
+    (0.0, [[(12.0, 0.0)], [(12.0, 0.0)], [(8.5, 0.0)]], True),        # its end may dip below t = 8 between m, b
+    (0.0, [[]] * 3, True),                                             # its end not recorded: unknown
 ])
 def test_a_turning_point_seen_by_no_sample_is_no_arrival_where_the_energy_of_its_arc_excludes_the_target(
         energy, switches, split):
@@ -656,7 +653,7 @@ def test_an_arcs_energy_excludes_the_targets_none_of_its_turning_points_can_be_a
     assert S._energy_excludes(problem, a, m, b, 1, 0.1) == excluded
     # a turning point seen at a and m only (running into a saddle between m and b) splits the interval
     # unless its arc's energy excludes every target
-    assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == (not excluded,) * 2
+    assert S._examine(problem, None, a, m, b, 10.0 * (1 - S.HORIZON_BAND), 15.0)[0] == (not excluded)
 
 
 def test_the_energy_and_the_transit_bounds_each_isolate_extremals_that_reach_a_saddle_coarser(monkeypatch):

@@ -80,10 +80,7 @@ and slopes at a, m, b (a pair of arrivals born at a fold between two samples) co
 not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
 states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split, unless its time there is late (DIP) and stays
-after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Each bound
-is per half, and only a half it leaves unresolved is examined again; the other keeps its brackets
-(swing-up from (-154.6, -47.17) to branch -24 on the plane at kappa = 0.8808: 8,269 extremals when
-both halves were, 4,640 after; the standard swing-up at kappa = 0.75: 99 and 88). Intervals are not split
+after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Intervals are not split
 below MIN_WIDTH; such an interval that is still unresolved is reported. A bracket whose root is not
 found (a sign change that is a jump, not a crossing, between samples whose values and slopes showed
 one crossing: the residual assumption failing, and caught) is examined again and split, where the
@@ -811,12 +808,12 @@ def _reaches(fa, fm, fb, sa, sm, sb, h):
 
 
 def _examine(problem, family, a, m, b, accept, extended, arrive=None):
-    """(split, singular, brackets, soonest) for the interval [a.phi, b.phi] with midpoint m: which of
-    its halves [a, m], [m, b] must be examined again (split: a pair of bools), and if only because a
-    turning point goes to infinite time inside it (the extremal reaches an equilibrium of its arc, a
-    saddle), the nearest approach of that turning point to a target; and the brackets (phi_lo, phi_hi,
-    label, branch, time, (earliest, latest)) it resolves (none in a half that is split, examined again;
-    time: the later end's, earliest and latest: the bounds of the turning point's time on the bracket). Arrivals are sought before
+    """(split, singular, brackets, soonest) for the interval [a.phi, b.phi] with midpoint m: whether it must
+    be bisected, and if only because a turning point goes to infinite time inside it (the extremal
+    reaches an equilibrium of its arc, a saddle), the nearest approach of that turning point to a
+    target; and the brackets (phi_lo, phi_hi, label, branch, time, (earliest, latest)) it resolves
+    (none if it is split and will be examined again in its halves; time: the later end's, earliest and
+    latest: the bounds of the turning point's time on the bracket). Arrivals are sought before
     `arrive` (default `accept`, the time of the omega check below). A turning point present at some of
     a, m, b only is first looked for by integrating the others to `extended`.
 
@@ -835,8 +832,8 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     label seen by some samples only splits the interval unless it is late and does not dip (`_dips`), or its arc's
     energy excludes every target (`_energy_excludes`), as it does for a label whose angle the bound
     leaves unresolved. `soonest`: the earliest an arrival may follow what forced a split (`_soonest`; the scan examines the
-    halves in that order). Each bound is per half: a half is split only where one leaves it unresolved."""
-    split, singular, brackets, soonest = [False, False], math.inf, [], math.inf
+    halves in that order)."""
+    split, singular, brackets, soonest = False, math.inf, [], math.inf
     arrive = accept if arrive is None else arrive
     h = 0.5 * (b.phi - a.phi)
     # the turning points before the acceptance t_a change on [a, b] only where one crosses it, a zero
@@ -875,7 +872,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         # none is an arrival where that arc runs through [a, b] then and its energy excludes every target
         arc = a.arc(end)
         if not (_runs_through(a, m, b, arc, end, h) and _energy_excludes(problem, a, m, b, arc, h)):
-            split, soonest = [not quiet[0], not quiet[1]], accept
+            split, soonest = True, accept
     # labels in time order along an extremal, (arc, index in arc): once a label's turning point is
     # after the acceptance on a whole half, every later one is too (at each phi, later in time; a label
     # absent there says nothing of the later ones: `after` is this label's only); so is every label from
@@ -896,8 +893,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
 
     def verdict(label, by):
         """What `label` asks of [a, b] where arrivals on each half are before `by`: None (nothing),
-        ("split", soonest, nearest approach, halves to split, brackets of the others) or ("found",
-        brackets); `late` updated."""
+        ("split", soonest, nearest approach) or ("found", brackets); `late` updated."""
         nonlocal late
         after = (settled[0] and label not in before[0], settled[1] and label not in before[1])
         if (late[0] or after[0]) and (late[1] or after[1]):
@@ -920,8 +916,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                 if _energy_excludes(problem, a, m, b, label[0], h):
                     return None
                 return ("split", _soonest(problem, [v for v in values if v is not None]),
-                        min(_distance(problem, v[1]) for v in values if v is not None),
-                        (not (late[0] or after[0]), not (late[1] or after[1])), [])
+                        min(_distance(problem, v[1]) for v in values if v is not None))
         (ta, tha), (tm, thm), (tb, thb) = values
         (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
         early = (min(ta, tm) <= by[0] and not late[0], min(tm, tb) <= by[1] and not late[1])
@@ -936,38 +931,36 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         if not (early[0] or early[1]):      # the turning point's time stays after the acceptance
             return None
         bounds = _curvatures(tha, thm, thb, dtha, dthm, dthb, h)
-        found, finite = [], math.isfinite(bounds[0] + bounds[1])
+        found, resolved = [], math.isfinite(bounds[0] + bounds[1])
         reach = CURVATURE * max(bounds) * h * h / 8
-        if finite and not _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach):
+        if resolved and not _targets(problem, min(tha, thm, thb) - reach, max(tha, thm, thb) + reach):
             return None                     # no target within reach on either half
-        unresolved = [early[0] and not finite, early[1] and not finite]
         for half, x0, x1, t0, t1, f0, f1, s0, s1, bound, early_half in (
                 (0, a.phi, m.phi, ta, tm, tha, thm, dtha, dthm, CURVATURE * bounds[0], early[0]),
                 (1, m.phi, b.phi, tm, tb, thm, thb, dthm, dthb, CURVATURE * bounds[1], early[1])):
-            if not (finite and early_half):
+            if not (resolved and early_half):
                 continue
             reach = bound * h * h / 8
             ks = _targets(problem, min(f0, f1) - reach, max(f0, f1) + reach)
             if not ks:
                 continue
             if not (s0 * s1 > 0 and abs(s0 + s1) > bound * h):
-                unresolved[half] = True
-                continue
+                resolved = False
+                break
             for k in ks:
                 target = problem.target(k)[0]
                 if (f0 - target) * (f1 - target) < 0 or f1 == target:
                     reach_t = reach_t or _reaches(ta, tm, tb, dta, dtm, dtb, h)
                     spread = reach_t[half]
                     found.append((x0, x1, label, k, max(t0, t1), (min(t0, t1) - spread, max(t0, t1) + spread)))
-        if not (unresolved[0] or unresolved[1]):
+        if resolved:
             return "found", found
         if _energy_excludes(problem, a, m, b, label[0], h):
             return None
         # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
         # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
         jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
-        return ("split", _soonest(problem, values), min(_distance(problem, th) for th in (tha, thm, thb)) if jump else -1.0,
-                unresolved, found)
+        return "split", _soonest(problem, values), min(_distance(problem, th) for th in (tha, thm, thb)) if jump else -1.0
 
     # arrivals on each half are before `arrive`, or (`_arrivals_by`, worked out where a label would split
     # the interval and, in a scan, its _Payoff says so) before the earlier time the transit from the
@@ -989,13 +982,11 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
             continue
         if outcome[0] == "found":
             brackets += outcome[1]
-        elif outcome[3][0] or outcome[3][1]:
-            split, soonest, singular = [split[0] or outcome[3][0], split[1] or outcome[3][1]], \
-                min(soonest, outcome[1]), min(singular, outcome[2])
-            brackets += outcome[4]
-    if b.phi - a.phi > 2 * MIN_WIDTH:
-        brackets = [f for f in brackets if not split[int(f[0] >= m.phi)]]   # found again in the halves split
-    return tuple(split), singular, brackets, soonest
+        else:
+            split, soonest, singular = True, min(soonest, outcome[1]), min(singular, outcome[2])
+    if split and b.phi - a.phi > 2 * MIN_WIDTH:
+        brackets = []           # found again in the halves
+    return split, singular, brackets, soonest
 
 
 def _root(family, problem, u0, label, branch, lo, hi, t_guess, accuracy, near=None):
@@ -1234,8 +1225,7 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
         while queue and not clock.tick(horizon, queue[0][2], queue[0][3].phi, family.count, len(brackets)):
             _, _, u0, a, b = heapq.heappop(queue)
             m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
-            in_halves, closest, found, soonest = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
-            split = in_halves[0] or in_halves[1]
+            split, closest, found, soonest = _examine(problem, family, a, m, b, accept, EXTEND * horizon, arrive)
             brackets += [(u0, f) for f in found]
             for f in found:
                 acceptance.add(f[5])
@@ -1244,9 +1234,8 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
                 accept, horizon = _accepting(arrive)
             finest = min(finest, 0.5 * (b.phi - a.phi))
             if split and b.phi - a.phi > 2 * MIN_WIDTH:
-                for lo, hi, again in ((a, m, in_halves[0]), (m, b, in_halves[1])):
-                    if again:
-                        heapq.heappush(queue, (soonest, next(order), u0, lo, hi))
+                heapq.heappush(queue, (soonest, next(order), u0, a, m))
+                heapq.heappush(queue, (soonest, next(order), u0, m, b))
             elif split and closest >= FAR:
                 singular.append((a.phi, b.phi, closest))
             elif split:

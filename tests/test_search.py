@@ -75,6 +75,19 @@ def test_the_search_finds_every_arrival_of_a_brute_force_scan(problem):
         assert all(a.branch == problem.branch for a in result.arrivals)
 
 
+def test_an_arrival_on_a_narrow_island_of_the_family_is_found():
+    """Damping on the plane (branch 0) from (5.4978, 2.25) at kappa = 0.23424: the synthesis map's
+    extremal through that state (benchmarks/search_vs_maps.py, map 106), solved exactly by Newton
+    from the target, takes 22.748800234685 (its tolerance 2.8e-8). It switches four times, at
+    phi = 4.94377, where the scan's samples at 4.943506 and 4.944838 switch once (arc 1 running past
+    the horizon): an island 4e-5 wide. Judging each half of an interval alone resolved it, and the
+    search reported 28.1887 (6bae372, reverted)."""
+    result = S.search(make("damping", 0.23424409064330087, (5.497787143782137, 2.25), 0))
+    assert result.status == "optimal"
+    assert result.best.T == pytest.approx(22.748800234685202, abs=2.8e-8)
+    assert result.best.signs == (-1, 1, -1, 1, -1)
+
+
 def test_the_plane_and_the_circle_differ_where_the_nearest_target_is_not_the_pinned_one():
     """From (-2, 0) at kappa = 0.6 the nearest upright is -pi, but on the circle the optimum goes to
     +pi in one switch; on the plane with -pi pinned it cannot."""

@@ -78,7 +78,11 @@ where a switch crosses t_a, their slope jumping by 2 kappa dt_s/dphi, times omeg
 samples only stays above its tangents toward the others (`_dips`). A feature narrower than the half that shows in none of the values
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
 not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
-states and kappa). A label present at some of a, m, b only (its turning point crosses the horizon)
+states and kappa; benchmarks/search_vs_maps.py: against the synthesis maps). One such feature is known:
+damping on the plane from (5.4978, 2.25) at kappa = 0.23424, an island 4e-5 wide in phi where the optimal
+extremal switches four times between samples that switch once, which bounds on its half alone call
+resolved; the split of the whole interval, which its other half forces, samples it again and finds
+it (tests/test_search.py). Judging each half alone would halve the cost of some fast starts and lost it. A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split, unless its time there is late (DIP) and stays
 after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Intervals are not split
 below MIN_WIDTH; such an interval that is still unresolved is reported. A bracket whose root is not

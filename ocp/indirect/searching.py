@@ -82,7 +82,7 @@ states and kappa; benchmarks/search_vs_maps.py: against the synthesis maps). One
 damping on the plane from (5.4978, 2.25) at kappa = 0.23424, an island 4e-5 wide in phi where the optimal
 extremal switches four times between samples that switch once, which bounds on its half alone call
 resolved; the split of the whole interval, which its other half forces, samples it again and finds
-it (tests/test_search.py). Judging each half alone would halve the cost of some fast starts and lost it. A label present at some of a, m, b only (its turning point crosses the horizon)
+it (tests/test_search.py). Judging each half alone would halve the cost of some fast starts; it lost this one. A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split, unless its time there is late (DIP) and stays
 after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Intervals are not split
 below MIN_WIDTH; such an interval that is still unresolved is reported. A bracket whose root is not
@@ -745,7 +745,7 @@ def _arrivals_by(problem, a, m, b, arrive, h):
                    min(e0, e1) - reach_e[half], max(e0, e1) + reach_e[half])
             if not ends:                    # a turning point: e = -cos(theta) on its angle's window
                 low, high = _cosine_range(box[0], box[1])
-                if max(low, box[2]) <= min(high, box[3]):
+                if max(low, box[2]) <= min(high, box[3]):     # (disjoint, the cosine's range alone holds)
                     low, high = max(low, box[2]), min(high, box[3])
                 box = (box[0], box[1], low, high)
             after = problem.transit(*box, signs[half])

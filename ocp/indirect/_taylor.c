@@ -23,24 +23,26 @@ static inline double max2(double a, double b) { return b > a ? b : a; }
 #define C(c, k, i) ((c)[4 * (k) + (i)])
 
 /* The workspace of a series of order K: the coefficients of y (c), of sin and cos of theta (s, co),
- * of the variations dy (d) and of sin(theta) p2 (g). */
+ * (j + 1) theta_{j+1} (jt: the terms of the series of sin and cos, each product formed once), of
+ * the variations dy (d) and of sin(theta) p2 (g). */
 typedef struct {
     int K;
-    double *c, *s, *co, *d, *g;
+    double *c, *s, *co, *jt, *d, *g;
 } Series;
 
 static int series_alloc(Series *w, int K, int variations)
 {
     size_t n = (size_t)(K + 1);
     w->K = K;
-    w->c = malloc(sizeof(double) * n * (variations ? 11 : 6));
+    w->c = malloc(sizeof(double) * n * (variations ? 12 : 7));
     if (!w->c) {
         PyErr_NoMemory();
         return -1;
     }
     w->s = w->c + 4 * n;
     w->co = w->s + n;
-    w->d = variations ? w->co + n : NULL;
+    w->jt = w->co + n;
+    w->d = variations ? w->jt + n : NULL;
     w->g = variations ? w->d + 4 * n : NULL;
     return 0;
 }
@@ -51,7 +53,7 @@ static int series_alloc(Series *w, int K, int variations)
 static void series(Series *w, const double *y, double u, double kappa, const double *dy)
 {
     const int K = w->K;
-    double *c = w->c, *s = w->s, *co = w->co, *d = w->d, *g = w->g;
+    double *c = w->c, *s = w->s, *co = w->co, *jt = w->jt, *d = w->d, *g = w->g;
     for (int i = 0; i < 4; i++)
         C(c, 0, i) = y[i];
     s[0] = sin(y[0]);
@@ -67,13 +69,13 @@ static void series(Series *w, const double *y, double u, double kappa, const dou
         /* the independent sums of one order in one loop (each summed in its own order, as written
          * apart: their latencies overlap): p2 cos(theta) (acc), sin(theta) p2 (gk), and the
          * series of sin and cos, k s_k = sum_j j theta_j c_{k-j} (ss, term j + 1 at j) */
+        jt[k] = k1 * C(c, k1, 0);
         double acc = 0.0, gk = 0.0, ss = 0.0, cc = 0.0;
         for (int j = 0; j <= k; j++) {
             acc += C(c, j, 3) * co[k - j];
             gk += s[j] * C(c, k - j, 3);
-            double jt = (j + 1) * C(c, j + 1, 0);
-            ss += jt * co[k - j];
-            cc += jt * s[k - j];
+            ss += jt[j] * co[k - j];
+            cc += jt[j] * s[k - j];
         }
         C(c, k1, 2) = acc / k1;
         if (d) {

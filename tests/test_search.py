@@ -164,6 +164,7 @@ def fake_sample(phi, theta, slope, omega=(1.0, 0.0), label=(1, 0), t=(2.0, 0.0),
     sample.switch_times, sample.switch_slopes = [t for t, _ in switches], [d for _, d in switches]
     sample.switch_states = [(math.pi, 0.0, 1.0, 0.0)] * len(switches)    # on the upright target: no transit
     sample.switch_signs = [1.0] * len(switches)
+    sample.labels_before = {}
     return sample
 
 

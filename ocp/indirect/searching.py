@@ -446,17 +446,20 @@ class _Sample:
     and its derivative in phi, arc -> (E, dE/dphi) in `energies` (`_energy`), the switches' times and
     their derivatives in phi in `switch_times`, `switch_slopes`, the state there, (theta, dtheta/dphi,
     e, de/dphi) in `switch_states` (derivatives along the switch, t_s(phi)), omega's sign there in
-    `switch_signs` (never 0: p1 omega = 1 at a switch), and where the integration ended (to extend it
-    from there)."""
+    `switch_signs` (never 0: p1 omega = 1 at a switch), where the integration ended (to extend it
+    from there), and the sets `seen` returned, by time, in `labels_before`."""
 
     __slots__ = ("phi", "u0", "duration", "events", "slopes", "ends", "end", "energies", "switch_times",
-                 "switch_slopes", "switch_states", "switch_signs")
+                 "switch_slopes", "switch_states", "switch_signs", "labels_before")
 
     def seen(self, horizon):
-        """The labels of the turning points before `horizon`."""
+        """The labels of the turning points before `horizon`, a set (kept once integrated past it: fixed)."""
         if self.duration <= horizon:
-            return self.events.keys()
-        return {label for label, (t, _) in self.events.items() if t <= horizon}
+            return set(self.events)
+        labels = self.labels_before.get(horizon)
+        if labels is None:
+            labels = self.labels_before[horizon] = {label for label, (t, _) in self.events.items() if t <= horizon}
+        return labels
 
     def arc(self, t):
         """The arc running at elapsed time t (the switches before it)."""
@@ -475,7 +478,7 @@ class _Sample:
         return self.ends[t]
 
     def __init__(self, family, phi, u0, duration):
-        self.phi, self.u0, self.events, self.slopes, self.ends = phi, u0, {}, {}, {}
+        self.phi, self.u0, self.events, self.slopes, self.ends, self.labels_before = phi, u0, {}, {}, {}, {}
         self.duration, self.end = 0.0, None
         theta0, omega0 = family.x0
         self.energies = {0: (_energy(theta0, omega0, _torque(family.kappa, u0, 0)), 0.0)}
@@ -551,7 +554,6 @@ class _Family:
         self.transit = _Payoff()
         self._switches = np.empty((64, 8))
         self._events = np.empty((256, 8))
-        self._y0, self._dy0 = np.array([*self.x0, 0.0, 0.0]), np.zeros(4)
         self._samples = {}
 
     def run(self, phi, u0, duration, accuracy, start=None, mark=None):
@@ -562,9 +564,8 @@ class _Family:
         (copy what is kept)."""
         tol, order = accuracy
         if start is None:
-            y0, dy0, u_start = self._y0, self._dy0, float(u0)
             sin, cos = math.sin(phi), math.cos(phi)
-            y0[2], y0[3], dy0[2], dy0[3] = cos, 0.0 if abs(sin) < 1e-15 else sin, -sin, cos
+            y0, dy0, u_start = (*self.x0, cos, 0.0 if abs(sin) < 1e-15 else sin), (0.0, 0.0, -sin, cos), float(u0)
         else:
             y0, dy0, u_start = start
         while True:
@@ -799,8 +800,12 @@ def _curvatures(fa, fm, fb, sa, sm, sb, h):
     cubic Hermite interpolants of a function's values f and slopes s at a, m, b at the ends of that
     half (where a cubic's, linear, is extreme), both interpolants' at m: local estimates of |f''|."""
     left, right = 6 * (fm - fa) / h, 6 * (fb - fm) / h
-    at_m = max(abs(-left + 2 * sa + 4 * sm), abs(right - 4 * sm - 2 * sb))
-    return max(abs(left - 4 * sa - 2 * sm), at_m) / h, max(at_m, abs(-right + 2 * sm + 4 * sb)) / h
+    at_left, at_m, at_right = abs(left - 4 * sa - 2 * sm), abs(-left + 2 * sa + 4 * sm), abs(-right + 2 * sm + 4 * sb)
+    at_m_right = abs(right - 4 * sm - 2 * sb)
+    # max() written as conditionals on the search's hot paths: a call of the builtin costs about nine
+    # comparisons in CPython 3.11 (the same value, the first of equals, NaN propagated as max does)
+    at_m = at_m_right if at_m_right > at_m else at_m
+    return (at_m if at_m > at_left else at_left) / h, (at_right if at_right > at_m else at_m) / h
 
 
 def _reaches(fa, fm, fb, sa, sm, sb, h):
@@ -855,11 +860,11 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         s.omega(family, end) for s in (a, m, b))
     # per half: omega(end, .) has no zero there, or one (monotone), or e(end, .) > 1 there (a rotation:
     # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates)
-    quiet, e_reach = [], None
-    for half, w0, w1, s0, s1, curvature, e0, e1 in zip(
-            (0, 1), (wa, wm), (wm, wb), (dwa, dwm), (dwm, dwb), _curvatures(wa, wm, wb, dwa, dwm, dwb, h), (ea, em), (em, eb)):
-        bound = CURVATURE * curvature
-        calm = (min(w0, w1) - bound * h * h / 8 > 0 or max(w0, w1) + bound * h * h / 8 < 0
+    quiet, e_reach, curvatures = [], None, _curvatures(wa, wm, wb, dwa, dwm, dwb, h)
+    for half, (w0, w1, s0, s1, e0, e1) in enumerate(((wa, wm, dwa, dwm, ea, em), (wm, wb, dwm, dwb, em, eb))):
+        bound = CURVATURE * curvatures[half]
+        low, high = w1 if w1 < w0 else w0, w1 if w1 > w0 else w0       # min, max (as _curvatures writes them)
+        calm = (low - bound * h * h / 8 > 0 or high + bound * h * h / 8 < 0
                 or (s0 * s1 > 0 and abs(s0 + s1) > bound * h))
         if not calm:
             e_reach = e_reach or _reaches(ea, em, eb, dea, dem, deb, h)
@@ -868,8 +873,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     hidden = not (quiet[0] and quiet[1])
     # a quiet half whose ends see the same turning points before `end` has no zero of omega(end, .) (one
     # would change them): every phi of it sees those, and a label after `end` at its ends is after it there
-    before = [{label for label, (t, _) in s.events.items() if t <= end} for s in (a, m, b)] if quiet[0] or quiet[1] \
-        else [(), (), ()]
+    before = [s.seen(end) for s in (a, m, b)] if quiet[0] or quiet[1] else [(), (), ()]
     settled = (quiet[0] and before[0] == before[1], quiet[1] and before[1] == before[2])
     if hidden and b.phi - a.phi > 2 * MIN_WIDTH and alike:
         # a turning point crossing that time unseen is of the arc running then (it cannot cross a switch):
@@ -881,7 +885,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # after the acceptance on a whole half, every later one is too (at each phi, later in time; a label
     # absent there says nothing of the later ones: `after` is this label's only); so is every label from
     # arc j on where a switch before arc j that a, m and b record is after it on the whole half
-    late, common, switched = [False, False], min(len(s.switch_times) for s in (a, m, b)), {}
+    late, common, switched = [False, False], min(len(a.switch_times), len(m.switch_times), len(b.switch_times)), {}
 
     def switch_after(label, by):
         """For each half, whether the last switch a, m and b record before `label`'s arc is after `by`

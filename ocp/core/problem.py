@@ -179,20 +179,12 @@ class Problem:
     @cached_property
     def lower_bound(self):
         """A lower bound of the minimum time, the larger of `double_integrator_bound` and the energy's:
-        E = omega^2/2 - cos(theta) changes at dE/dt = kappa u omega, so F = sqrt(2 (E + 1)) =
-        sqrt(omega^2 + 4 sin^2(theta/2)) >= |omega| changes at |dF/dt| <= kappa, and a transfer over an
-        angle d from F0 to the target's F* (2 upright, 0 hanging) takes at least `transit_time`. A start
-        moving away from the target must turn first: on the way to its first turning point (omega = 0,
-        where E = -cos(theta) <= 1) E changes at |dE/dtheta| = kappa |u| <= kappa, so that point is at least
-        reach = (E0 - 1) / kappa on (braking to F <= 2 on the way, at least (F0 - 2) / kappa), and a target behind it is reached
-        over the way back from there too (`least_transit` from F in [0, 2]); the arrival, at rest, is
-        the first turning point only on a target past it. On the circle, the least over the branches,
-        relaxed: min(one-way at the first branch at or past the turn, max(one-way at the branch nearest
-        theta0, way back from the last branch before the turn)) (the one-way bound grows with the
-        distance from theta0, the way back with the distance from the turn). At small kappa the energy's is the
-        larger: 2/kappa from rest to the upright, 480 from (0, 50) at kappa = 0.1 (the optimum 488.6);
-        from (1.473, 22.78) to branch -2 at kappa = 0.41, 630 rad behind the turn: 120.7 (the optimum
-        128.1; 50.8 without the turn)."""
+        `transit` from x0 (F = sqrt(omega^2 + 4 sin^2(theta/2)) changes at |dF/dt| <= kappa; a start
+        moving away from the target turns first, and a target behind the turn is reached over the way
+        back: `transit` states the argument). At small kappa the energy's is the larger: 2/kappa from
+        rest to the upright, 480 from (0, 50) at kappa = 0.1 (the optimum 488.6); from (1.473, 22.78)
+        to branch -2 at kappa = 0.41, 630 rad behind the turn: 120.7 (the optimum 128.1; 50.8 without
+        the turn)."""
         theta0, omega0 = self.x0
         e0 = 0.5 * omega0 * omega0 - math.cos(theta0)
         return max(self.double_integrator_bound, self.transit(theta0, theta0, e0, e0, math.copysign(1.0, omega0)))
@@ -211,13 +203,18 @@ class Problem:
     def transit(self, lo, hi, e_lo, e_hi, sign=0.0):
         """A lower bound of the time from a state with theta in [lo, hi], e = omega^2/2 - cos(theta) in
         [e_lo, e_hi] and omega of sign `sign` (0: either) to an arrival (at rest on an allowed target,
-        F* = 2 |sin(theta*/2)|) after it (`lower_bound`'s argument from any state; run backwards in time,
-        the same with -sign bounds the time from an arrival before it). One way: `least_transit` over the
-        gap to the nearest target. A state moving away (e > 1) turns first, at least reach = (e_lo - 1) /
-        kappa on, braking to F <= 2 (`least_transit` over the reach from F_lo, (F_lo - 2) / kappa: the
-        least over [F_lo, F_hi]), so a target behind the nearest turn is reached over the way back from
-        it too; on the circle, the least over the branches, relaxed: min(one way to the first branch at or
-        past the turn, max(one way to the nearest, way back from the last branch before the turn))."""
+        F* = 2 |sin(theta*/2)|) after it (run backwards in time, the same with -sign bounds the time
+        from an arrival before it). e changes at de/dt = kappa u omega, so F = sqrt(2 (e + 1)) =
+        sqrt(omega^2 + 4 sin^2(theta/2)) >= |omega| changes at |dF/dt| <= kappa.
+        One way: `least_transit` over the gap to the nearest target. A state moving away (e > 1) turns
+        first, where e = -cos(theta) <= 1, and e changes at |de/dtheta| = kappa |u| <= kappa on the way,
+        so the turn is at least reach = (e_lo - 1) / kappa on, braking to F <= 2 (`least_transit` over
+        the reach from F_lo, (F_lo - 2) / kappa: the least over [F_lo, F_hi]); the arrival, at rest, is
+        the first turning point only on a target past it, so a target behind the turn is reached over
+        the way back from it too. On the circle, the least over the branches, relaxed: min(one way to
+        the first branch at or past the turn, max(one way to the nearest, way back from the last branch
+        before the turn)) (the one way grows with the distance from the state, the way back with the
+        distance from the turn)."""
         kappa, f_target = self.kappa, 2 * abs(math.sin(self.base / 2))
         if not math.isfinite(lo + hi + e_lo + e_hi):
             return least_transit(kappa, self.gap(lo, hi), 0.0, math.inf, f_target)

@@ -614,12 +614,6 @@ def _targets(problem, lo, hi):
     return ks if problem.branch is None else [k for k in (problem.branch,) if k in ks]
 
 
-def _distance(problem, theta):
-    """Distance from theta to the nearest allowed target angle."""
-    k = problem.nearest_branch(theta) if problem.branch is None else problem.branch
-    return abs(theta - problem.target(k)[0])
-
-
 def _torque(kappa, u0, arc):
     """kappa u_j on arc j of an extremal whose first control is u0: u_j = u0 (-1)^j."""
     return kappa * u0 * (-1) ** arc
@@ -924,7 +918,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                 if _energy_excludes(problem, a, m, b, label[0], h):
                     return None
                 return ("split", _soonest(problem, [v for v in values if v is not None]),
-                        min(_distance(problem, v[1]) for v in values if v is not None))
+                        min(problem.gap(v[1], v[1]) for v in values if v is not None))
         (ta, tha), (tm, thm), (tb, thb) = values
         (dta, dtha), (dtm, dthm), (dtb, dthb) = a.slopes[label], m.slopes[label], b.slopes[label]
         early = (min(ta, tm) <= by[0] and not late[0], min(tm, tb) <= by[1] and not late[1])
@@ -968,7 +962,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         # a jump of more than JUMP rad at the finest spacing is a discontinuity: the extremal
         # meets a saddle there (the turning point's time is unbounded), no crossing hides in it
         jump = b.phi - a.phi <= 2 * MIN_WIDTH and abs(thm - tha) + abs(thb - thm) > JUMP
-        return "split", _soonest(problem, values), min(_distance(problem, th) for th in (tha, thm, thb)) if jump else -1.0
+        return "split", _soonest(problem, values), min(problem.gap(th, th) for th in (tha, thm, thb)) if jump else -1.0
 
     # arrivals on each half are before `arrive`, or (`_arrivals_by`, worked out where a label would split
     # the interval and, in a scan, its _Payoff says so) before the earlier time the transit from the
@@ -1223,7 +1217,7 @@ def scan(problem, horizon, original=None, clock=None, halves=2, family=None, mar
     acceptance, queue, order = _Acceptance(margin, arrive, floor), [], itertools.count()
     for lo, hi, u0 in intervals:
         for end in (family.sample(lo, u0, horizon), family.sample(hi, u0, horizon)):
-            closest = min((_distance(problem, th) for t, th in end.events.values() if t <= accept), default=math.inf)
+            closest = min((problem.gap(th, th) for t, th in end.events.values() if t <= accept), default=math.inf)
             if closest < END_NEAR:
                 unresolved.append((end.phi, end.phi, closest))
         grid = [family.sample(phi, u0, horizon) for phi in np.linspace(lo + END_OFFSET, hi - END_OFFSET, SAMPLES + 1)]

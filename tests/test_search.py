@@ -20,12 +20,12 @@ from ocp.indirect import taylor
 BRUTE = 4000
 
 
-def brute_force(problem, horizon):
+def brute_force(problem, horizon, angles=BRUTE):
     family = S._Family(problem.x0, problem.kappa)
     found = []
     for lo, hi, u0 in S.admissible_intervals(problem.x0, problem.kappa):
         previous = None
-        for phi in np.linspace(lo + S.END_OFFSET, hi - S.END_OFFSET, BRUTE):
+        for phi in np.linspace(lo + S.END_OFFSET, hi - S.END_OFFSET, angles):
             sample = family.sample(phi, u0, horizon)
             if previous is not None:
                 for label, (t1, th1) in sample.events.items():

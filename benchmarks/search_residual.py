@@ -13,7 +13,9 @@ many times per radian of phi and the brute force takes BRUTE_FAST angles per hal
 between two angles is one it cannot solve).
 
 Shards are seed ranges (run them in parallel, under nice, each into its own file); --summary counts
-the states of every file given, by status, and the brute-force arrivals missed.
+the states of every file given, by status, and the brute-force arrivals missed, and the brute
+force's own reach: the states where its best is the search's, and those where it found none (a
+check that can only find misses among the arrivals it sees).
 
 A line: the problem, the search's status and reading, its best T, the brute force's best and count,
 `missing`: the brute-force arrivals (before the search's horizon) that the search did not find, and
@@ -62,8 +64,12 @@ def summary(paths):
         statuses[r["status"]] = statuses.get(r["status"], 0) + 1
     compared = [r for r in rows if "missing" in r]
     missed = [(r["seed"], T) for r in compared for T in r["missing"]]
+    # the brute force's own reach: the states where it found the search's best, and where it found none
+    same_best = sum(r["brute_best"] is not None and abs(r["brute_best"] - r["best"]) <= 1e-8 * r["best"] for r in compared)
+    blind = sum(r["n_brute"] == 0 for r in compared)
     print(f"{len(rows)} states ({', '.join(f'{n} {s}' for s, n in sorted(statuses.items()))}); {len(compared)} compared "
-          f"with the brute force ({sum(r['n_brute'] for r in compared)} arrivals): {len(missed)} missed {missed}")
+          f"with the brute force ({sum(r['n_brute'] for r in compared)} arrivals; its best the search's in {same_best}, "
+          f"none found in {blind}): {len(missed)} missed {missed}")
 
 
 def main():

@@ -56,9 +56,14 @@ class _Texts(ast.NodeTransformer):
 def code_hash(path):
     """sha256 of the file's syntax tree, docstrings and help texts removed (16 hex digits); of its
     bytes for a file not in Python (a C source or header)."""
-    if Path(path).suffix != ".py":
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
-    tree = _Texts().visit(ast.parse(Path(path).read_text(encoding="utf-8")))
+    return source_hash(Path(path).read_bytes(), Path(path).suffix)
+
+
+def source_hash(source, suffix):
+    """`code_hash` of a file's bytes `source`, its suffix `suffix` (".py": the syntax tree's)."""
+    if suffix != ".py":
+        return hashlib.sha256(source).hexdigest()[:16]
+    tree = _Texts().visit(ast.parse(source))
     return hashlib.sha256(ast.dump(tree, include_attributes=False).encode()).hexdigest()[:16]
 
 

@@ -29,6 +29,10 @@ Parts (all by default, in this order):
     bifurcation    ocp bifurcation --store benchmarks/results/bifurcation.jsonl --jobs 2   (fresh)
                    -> ocp/synthesis/data/bifurcation.jsonl (read by ocp verify) and the table of
                       the values kappa_n in README.md
+    completeness   python benchmarks/completeness.py
+                   -> the residual assumption of the search's completeness as measured so far (every
+                      shard of search_residual.py and search_vs_maps.py, by commit) in
+                      benchmarks/README.md; records the shards' and the search code's hashes
     timings        ocp solve, ocp verify (and, with --time-tests, python -m pytest), timed here,
                    with the times of the parts above, and python benchmarks/search_speed.py
                    --processes (whole ocp solve processes and the search alone on the standard
@@ -67,7 +71,8 @@ FAILURE_MAPS = "benchmarks/results/failure-maps"
 #: the methods whose failure maps are published: (solver, configuration)
 MAPPED = (("ipopt", "default"), ("fatrop", "default"), ("sqpmethod", "fair"))
 BIFURCATION_DATA = "ocp/synthesis/data/bifurcation.jsonl"
-PARTS = ("direct-error", "bench", "standard", "figures", "failure-maps", "speed", "bifurcation", "timings")
+PARTS = ("direct-error", "bench", "standard", "figures", "failure-maps", "speed", "bifurcation", "completeness",
+         "timings")
 #: the code the current part's commands ran: file -> code hash (benchmarks/measured.py)
 RAN = {}
 
@@ -313,6 +318,15 @@ def timings(commit, records, time_tests, previous):
     return record
 
 
+def completeness(commit):
+    from completeness import inputs
+    shown = "python benchmarks/completeness.py"
+    seconds, out = run([sys.executable, "benchmarks/completeness.py"], shown)
+    record = {"commit": commit, "command": shown, "seconds": seconds, "environment": environment(), "inputs": inputs()}
+    replace_block(ROOT / "benchmarks" / "README.md", "completeness", f"    {shown}\n\n{out.strip()}\n\n{stamp(record)}")
+    return record
+
+
 def _duration(seconds):
     """A wall time to two significant digits (run-to-run spread on a shared machine is 10-30 %)."""
     return f"{seconds:.2g} s" if seconds < 90 else f"{seconds / 60:.2g} min"
@@ -349,6 +363,8 @@ def main():
             records[part] = speed(commit)
         elif part == "bifurcation":
             records[part] = bifurcation(commit, args.jobs)
+        elif part == "completeness":
+            records[part] = completeness(commit)
         else:
             records[part] = timings(commit, records, args.time_tests, previous)
         records[part].update(code=dict(sorted(RAN.items())), data=data_hashes())

@@ -27,6 +27,7 @@ BLOCKS = {
     "speed": [("README.md", "search-speed"), ("README.md", "search-cost"), ("README.md", "search-range"),
               ("README.md", "synthesis-speed")],
     "bifurcation": [("README.md", "bifurcation")],
+    "completeness": [("benchmarks/README.md", "completeness")],
     "timings": [("README.md", "timings"), ("README.md", "verify-totals")],
 }
 
@@ -64,11 +65,20 @@ def test_the_published_files_exist(manifest):
     assert len(figures) == 8 and all((ROOT / "docs/figures" / f"{f}.png").is_file() for f in figures)
 
 
-def _measured():
-    spec = importlib.util.spec_from_file_location("measured", ROOT / "benchmarks" / "measured.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+def _benchmark(name):
+    """The module benchmarks/NAME.py (their folder on the path: they import each other)."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    finally:
+        sys.path.remove(str(ROOT / "benchmarks"))
     return module
+
+
+def _measured():
+    return _benchmark("measured")
 
 
 @pytest.mark.parametrize("part", list(BLOCKS))
@@ -82,6 +92,17 @@ def test_the_code_and_data_each_part_ran_are_unchanged(manifest, part):
     assert not changed, (f"{part} was published at {record['commit'][:12]}; since then the code or data it ran "
                          f"changed: {', '.join(changed)}; rerun `python benchmarks/publish.py --only {part}` and "
                          f"commit its output")
+
+
+def test_the_completeness_table_counts_the_shards_and_the_search_as_they_stand(manifest):
+    """The table of the residual assumption's measurements reads the shards of search_residual.py and
+    search_vs_maps.py and judges each commit's search against the tree's: a shard added or changed,
+    or the search's code changed, makes it stale."""
+    now, then = _benchmark("completeness").inputs(), manifest["completeness"]["inputs"]
+    changed = sorted(f for f in set(now) | set(then) if now.get(f) != then.get(f))
+    assert not changed, (f"the completeness table was published at {manifest['completeness']['commit'][:12]}; since "
+                         f"then these changed: {', '.join(changed)}; rerun `python benchmarks/publish.py --only "
+                         f"completeness` and commit its output")
 
 
 @pytest.mark.parametrize("part", list(BLOCKS))

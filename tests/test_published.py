@@ -8,6 +8,7 @@ and the package data), and that code must be what the tree holds now. When this 
 import importlib.util
 import json
 import re
+import subprocess
 import sys
 import types
 from pathlib import Path
@@ -148,3 +149,45 @@ def test_a_compiled_extension_is_keyed_by_its_c_sources(tmp_path):
     before = measured.code_hash(source)
     source.write_bytes(b"double f(double x) { return x; } \n")
     assert measured.code_hash(source) != before
+
+
+# ---- benchmarks/completeness.py: the search's code it follows, and how it counts the shards ----
+
+def test_the_search_code_is_what_searching_imports_at_any_depth():
+    """searching.py imports problem.py (which imports model.py), roots.py, near.py and taylor.py, which
+    imports the compiled _taylor (its C source and the header pyproject.toml declares); no package
+    __init__, nothing of the direct methods."""
+    files = _benchmark("completeness").search_code()
+    assert {"ocp/indirect/searching.py", "ocp/core/problem.py", "ocp/core/model.py", "ocp/core/roots.py",
+            "ocp/indirect/near.py", "ocp/indirect/taylor.py", "ocp/indirect/_taylor.c", "ocp/_arrays.h"} <= set(files)
+    assert not [f for f in files if f.endswith("__init__.py") or f.startswith("ocp/direct/")]
+
+
+def test_a_commit_is_judged_by_the_code_of_the_search_at_it():
+    """HEAD's search is the tree's when the tree holds HEAD's code; one file's code changed is not."""
+    module = _benchmark("completeness")
+    files = module.search_code()
+    now = {path: module.code_hash(ROOT / path) for path in files}
+    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True).stdout.strip()
+    committed = {path: module.source_hash(module.git("show", f"HEAD:{path}").stdout, Path(path).suffix) for path in files}
+    assert module.same_search(head, files, committed)
+    assert not module.same_search(head, files, {**committed, "ocp/core/roots.py": "0" * 16})
+    assert (committed == now) == module.same_search(head, files, now)
+
+
+def test_the_shards_are_counted_by_commit_and_verdict():
+    """A brute-force state compared (its arrivals and misses), one not proven optimal (apart), a fast
+    start; map cells: the same extremal, unsettled and agreeing, the map slower, the search slower
+    unsettled (a miss), a search stopped (apart)."""
+    rows = [("brute force", {"commit": "a", "n_brute": 3, "missing": [1.0]}),
+            ("brute force", {"commit": "a", "status": "stopped"}),
+            ("brute force", {"commit": "b", "n_brute": 1, "missing": [], "states": "fast"}),
+            ("maps", {"commit": "a", "verdict": "same extremal"}),
+            ("maps", {"commit": "a", "verdict": "unsettled, agree"}),
+            ("maps", {"commit": "a", "verdict": "map slower"}),
+            ("maps", {"commit": "a", "verdict": "unsettled, search slower"}),
+            ("maps", {"commit": "b", "verdict": "stopped"})]
+    counts = _benchmark("completeness").tally(rows)
+    assert counts["a"] == {"states": 1, "fast": 0, "arrivals": 3, "missed": 1, "cells": 4, "same": 1, "agree": 1,
+                           "map slower": 1, "cell missed": 1, "not compared": 1}
+    assert (counts["b"]["states"], counts["b"]["fast"], counts["b"]["cells"], counts["b"]["not compared"]) == (1, 1, 0, 1)

@@ -37,10 +37,19 @@ def test_the_bibliography_has_the_works_the_suite_relies_on():
         assert work in text, work
 
 
+def _anchors(path):
+    """The anchors of a Markdown file's headings, as GitHub makes them: lower case, only letters,
+    digits, spaces, hyphens and underscores kept, spaces made hyphens."""
+    headings = re.findall(r"^#+ (.+)$", path.read_text(encoding="utf-8"), re.M)
+    return {re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-") for h in headings}
+
+
 def test_no_link_leaves_the_repository():
     for doc in ("README.md", "benchmarks/README.md", "ARCHITECTURE.md"):
         text = (ROOT / doc).read_text(encoding="utf-8")
         assert "../" not in text and "/work/" not in text and "shared/papers" not in text, doc
         for target in re.findall(r"\]\(([^)]+)\)", text):
             if not target.startswith(("http://", "https://", "#")):
-                assert (ROOT / doc).parent.joinpath(target).exists(), (doc, target)
+                file, _, anchor = target.partition("#")
+                assert (ROOT / doc).parent.joinpath(file).exists(), (doc, target)
+                assert not anchor or anchor in _anchors((ROOT / doc).parent / file), (doc, target)

@@ -8,9 +8,11 @@ on random states and kappa, both kinds, both readings, one JSON line per state (
 The states: theta0 in [-4, 4], omega0 in [-3, 3] (0 one time in five), kappa log-uniform in
 [0.2, 10]; with --fast, the fast starts of benchmarks/search_cost.py (`random_cases`, one per seed:
 |omega0| in [5, 30], kappa in [0.1, 3], the circle or a plane branch -2..2), where the family turns
-many times per radian of phi and the brute force takes BRUTE_FAST angles per half-circle (at the
-4,000 of the tests it finds none of the arrivals of some of them: a sign change it does not see
-between two angles is one it cannot solve).
+many times per radian of phi: there a pair of neighbouring angles between which a turning point's
+angle moves 1 rad or more is bisected for it down to FAST_FINEST (tests/test_search.py's
+`brute_force`; a uniform grid of 40,000 angles, this script's first fast shards, found none of the
+arrivals of one state in five, and the bisection from 4,000 finds some of those at a fifth of its
+cost). A line records the brute force it ran (`brute`: angles per half-circle, finest width).
 
 Shards are seed ranges (run them in parallel, under nice, each into its own file); --summary counts
 the states of every file given, by status, and the brute-force arrivals missed, and the brute
@@ -42,8 +44,8 @@ from ocp.indirect import searching as S  # noqa: E402
 #: by the machine's load) is run again with STARVED times the limit
 TIME_LIMIT = 60.0
 STARVED = 20
-#: brute-force angles per half-circle for the fast starts
-BRUTE_FAST = 40000
+#: the width down to which the brute force bisects a steep pair on the fast starts
+FAST_FINEST = 1e-9
 
 
 def state(seed, fast=False):
@@ -90,10 +92,11 @@ def main():
                    "states": "fast" if fast else "box"}
             if result.arrivals and result.coverage.complete:
                 horizon = result.coverage.horizon
-                brute = [T for T in brute_force(problem, horizon, BRUTE_FAST if fast else BRUTE) if T <= horizon * 0.999]
+                finest = FAST_FINEST if fast else 0.0
+                brute = [T for T in brute_force(problem, horizon, BRUTE, finest) if T <= horizon * 0.999]
                 found = [a.T for a in result.arrivals]
-                row.update(reading=result.coverage.reading, best=found[0], brute_best=min(brute, default=None),
-                           n_brute=len(brute), missing=[T for T in brute if not any(abs(T - F) <= 1e-8 * T for F in found)],
+                row.update(brute=[BRUTE, finest], reading=result.coverage.reading, best=found[0],
+                           brute_best=min(brute, default=None), n_brute=len(brute), missing=[T for T in brute if not any(abs(T - F) <= 1e-8 * T for F in found)],
                            seconds=time.time() - begun)
             out.write(json.dumps(row) + "\n")
             out.flush()

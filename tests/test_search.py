@@ -20,23 +20,39 @@ from ocp.indirect import taylor
 BRUTE = 4000
 
 
-def brute_force(problem, horizon, angles=BRUTE):
+def brute_force(problem, horizon, angles=BRUTE, finest=0.0):
+    """The arrival times before `horizon` a uniform grid of `angles` costate angles per admissible
+    half-circle finds: each sign change of a turning point's angle less a target between two
+    neighbours that both see it, the angle moving less than 1 rad between them, solved by `_root`;
+    with `finest` > 0, a pair between which it moves 1 rad or more is bisected for that turning point
+    down to that width (a steep sweep resolved, a jump isolated)."""
     family = S._Family(problem.x0, problem.kappa)
     found = []
+
+    def crossings(a, b, u0, labels):
+        steep = []
+        for label in labels:
+            if label not in a.events:
+                continue
+            (t0, th0), (t1, th1) = a.events[label], b.events[label]
+            if abs(th1 - th0) >= 1.0:
+                steep.append(label)
+                continue
+            for k in S._targets(problem, min(th0, th1), max(th0, th1)):
+                root = S._root(family, problem, u0, label, k, a.phi, b.phi, max(t0, t1), taylor.CHECK)
+                if root is not None and root.T <= horizon:
+                    found.append(root.T)
+        if steep and finest > 0 and b.phi - a.phi > 2 * finest:
+            m = family.sample(0.5 * (a.phi + b.phi), u0, horizon)
+            crossings(a, m, u0, [label for label in steep if label in m.events])
+            crossings(m, b, u0, [label for label in steep if label in m.events])
+
     for lo, hi, u0 in S.admissible_intervals(problem.x0, problem.kappa):
         previous = None
         for phi in np.linspace(lo + S.END_OFFSET, hi - S.END_OFFSET, angles):
             sample = family.sample(phi, u0, horizon)
             if previous is not None:
-                for label, (t1, th1) in sample.events.items():
-                    if label not in previous.events:
-                        continue
-                    t0, th0 = previous.events[label]
-                    for k in S._targets(problem, min(th0, th1), max(th0, th1)):
-                        if abs(th1 - th0) < 1.0:
-                            root = S._root(family, problem, u0, label, k, previous.phi, phi, max(t0, t1), taylor.CHECK)
-                            if root is not None and root.T <= horizon:
-                                found.append(root.T)
+                crossings(previous, sample, u0, list(sample.events))
             previous = sample
     return sorted(found)
 

@@ -1,19 +1,24 @@
-"""The residual assumption of the search's completeness, as measured so far: every shard of
-benchmarks/search_residual.py (the search against a brute force) and benchmarks/search_vs_maps.py
-(against the synthesis maps) in benchmarks/, by the commit of the code that ran it, and whether
-that commit's search is the tree's.
+"""The residual assumption of the search's completeness, as measured so far: every committed shard
+of benchmarks/search_residual.py (the search against a brute force) and benchmarks/search_vs_maps.py
+(against the synthesis maps) in benchmarks/ (files tracked by git only: a shard still being written
+is not counted), by the commit of the code that ran it, and whether that commit's search is the
+tree's.
 
     python benchmarks/completeness.py
 
 The search's code (`search_code`) is ocp/indirect/searching.py and every project file it imports,
-directly or not (their packages' __init__ aside; a compiled extension by its C sources and headers,
-as pyproject.toml declares them); a commit's search is the tree's where each of those files has,
-at that commit, the `measured.code_hash` it has now (docstrings and comments aside). A line of the
-table: the commit, its date, that verdict, the states against the brute force (of them the fast
-starts of --fast), the brute force's arrivals and those the search missed, then the map cells by
-verdict (`search_vs_maps`: the same extremal; unsettled and agreeing; the map's extremal slower,
-settled or not; the search missed or slower, settled or not). States and cells whose search was
-not proven optimal are not compared, and counted apart.
+directly or not, by module (a name a package's __init__ re-exports is not followed; a compiled
+extension by its C sources and headers as pyproject.toml declares them, not its compile flags); a
+commit's search (`verdict`) is "the tree" where each of those files has, at that commit, the
+`measured.code_hash` it has now (docstrings and comments aside), "older" where one differs, and
+"unknown" where the shard recorded no commit git knows (none, or one with uncommitted changes). A
+line of the table: the commit, its date, that verdict; the states against the brute force (of them
+the fast starts of --fast), the brute force's own reach (its arrivals, the states where its best is
+the search's and where it found none: "0 missed" checks nothing there) and the arrivals the search
+did not report; then the map cells by verdict (`search_vs_maps`: the same extremal; unsettled and
+agreeing; the map's extremal slower, settled or not; the map's faster than the search's answer,
+settled or not: a miss). States and cells whose search was not proven optimal are not compared,
+and counted apart.
 """
 
 import ast
@@ -25,8 +30,10 @@ from pathlib import Path
 from measured import code_hash, extension_sources, source_hash
 
 ROOT = Path(__file__).resolve().parents[1]
-SHARDS = {"brute force": "benchmarks/search_residual-*.jsonl", "maps": "benchmarks/search_vs_maps-*.jsonl"}
+SHARDS = {"brute force": "benchmarks/search_residual*.jsonl", "maps": "benchmarks/search_vs_maps*.jsonl"}
 SEARCH = "ocp/indirect/searching.py"
+COUNTS = ("states", "fast", "arrivals", "its best", "none found", "missed", "cells", "same", "agree", "map slower",
+          "cell missed", "not compared")
 #: a map cell's verdict -> its column
 MAP_COLUMNS = {"same extremal": "same", "unsettled, agree": "agree", "map slower": "map slower",
                "unsettled, map slower": "map slower", "search missed": "missed",
@@ -70,6 +77,12 @@ def search_code(start=SEARCH):
     return sorted(seen)
 
 
+def shards():
+    """(kind, path) of every shard git tracks, by name."""
+    return [(kind, path) for kind, pattern in SHARDS.items()
+            for path in sorted(git("ls-files", pattern).stdout.decode().split())]
+
+
 def same_search(commit, files, now):
     """Whether every file of `files` has at `commit` the code hash `now` gives it."""
     for path in files:
@@ -79,11 +92,18 @@ def same_search(commit, files, now):
     return True
 
 
+def verdict(commit, files, now):
+    """(commit date, "the tree" | "older" | "unknown") of the search that ran at `commit`."""
+    shown = git("show", "-s", "--format=%cI", commit) if commit and "dirty" not in commit else None
+    if shown is None or shown.returncode != 0:
+        return "?", "unknown"
+    return shown.stdout.decode().strip(), "the tree" if same_search(commit, files, now) else "older"
+
+
 def inputs():
     """{path: code hash} of what the table reads: the shards and the search's code (a change to
     either makes a published table stale: tests/test_published.py)."""
-    shards = [path for pattern in SHARDS.values() for path in sorted(ROOT.glob(pattern))]
-    return {str(path.relative_to(ROOT)): code_hash(path) for path in shards} | \
+    return {path: code_hash(ROOT / path) for _, path in shards()} | \
         {path: code_hash(ROOT / path) for path in search_code()}
 
 
@@ -91,9 +111,7 @@ def tally(rows):
     """{commit: counts} of the shards' rows."""
     counts = {}
     for kind, row in rows:
-        c = counts.setdefault(row.get("commit", "unknown"), {
-            "states": 0, "fast": 0, "arrivals": 0, "missed": 0, "cells": 0, "same": 0, "agree": 0,
-            "map slower": 0, "cell missed": 0, "not compared": 0})
+        c = counts.setdefault(row.get("commit"), dict.fromkeys(COUNTS, 0))
         if kind == "brute force":
             if "missing" not in row:
                 c["not compared"] += 1
@@ -101,6 +119,8 @@ def tally(rows):
             c["states"] += 1
             c["fast"] += row.get("states") == "fast"
             c["arrivals"] += row["n_brute"]
+            c["its best"] += row["brute_best"] is not None and abs(row["brute_best"] - row["best"]) <= 1e-8 * row["best"]
+            c["none found"] += row["n_brute"] == 0
             c["missed"] += len(row["missing"])
         else:
             column = MAP_COLUMNS.get(row["verdict"])
@@ -113,32 +133,27 @@ def tally(rows):
 
 
 def main():
-    rows = [(kind, json.loads(line)) for kind, pattern in SHARDS.items() for path in sorted(ROOT.glob(pattern))
-            for line in path.read_text().splitlines()]
-    counts = tally(rows)
+    rows = [(kind, json.loads(line)) for kind, path in shards() for line in (ROOT / path).read_text().splitlines()]
     files = search_code()
     now = {path: code_hash(ROOT / path) for path in files}
-    dated = []
-    for commit, c in counts.items():
-        shown = git("show", "-s", "--format=%cI", commit)
-        stamp = shown.stdout.decode().strip() if shown.returncode == 0 and "dirty" not in commit else "?"
-        dated.append((stamp, commit, stamp != "?" and same_search(commit, files, now), c))
-    dated.sort()
+    lines = sorted((*verdict(commit, files, now), commit or "none", c) for commit, c in tally(rows).items())
     print(f"The search's code: {', '.join(files)}.\n")
-    print("| code of | committed | its search | brute force: states (fast starts) | arrivals | missed | maps: cells "
-          "| same extremal | unsettled, agreeing | the map's slower | missed | not compared |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
-    for stamp, commit, current, c in dated:
-        print(f"| {commit} | {stamp[:10]} | {'the tree' if current else 'older'} | {c['states']} ({c['fast']}) | "
-              f"{c['arrivals']} | {c['missed']} | {c['cells']} | {c['same']} | {c['agree']} | {c['map slower']} | "
+    print("| code of | committed | its search | brute force: states (fast starts) | its arrivals | its best the "
+          "search's | it found none | missed | maps: cells | same extremal | unsettled, agreeing | the map's slower "
+          "| missed | not compared |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    for stamp, judged, commit, c in lines:
+        print(f"| {commit} | {stamp[:10]} | {judged} | {c['states']} ({c['fast']}) | {c['arrivals']} | {c['its best']} | "
+              f"{c['none found']} | {c['missed']} | {c['cells']} | {c['same']} | {c['agree']} | {c['map slower']} | "
               f"{c['cell missed']} | {c['not compared']} |")
-    for label, chosen in (("The search as it stands", [d for d in dated if d[2]]), ("Every commit", dated)):
-        total = {k: sum(d[3][k] for d in chosen) for k in ("states", "fast", "arrivals", "missed", "cells",
-                                                           "cell missed", "not compared")}
-        print(f"\n{label} ({len(chosen)} commits): {total['states']} states against the brute force "
-              f"({total['fast']} fast starts; {total['arrivals']} arrivals, {total['missed']} missed), "
-              f"{total['cells']} cells against the maps ({total['cell missed']} missed); {total['not compared']} "
-              f"not compared (the search not proven optimal).")
+    for label, chosen in (("The search as it stands", [line for line in lines if line[1] == "the tree"]),
+                          ("Every shard", lines)):
+        total = {k: sum(line[3][k] for line in chosen) for k in COUNTS}
+        print(f"\n{label} ({len(chosen)} lines): {total['states']} states against the brute force "
+              f"({total['fast']} fast starts; {total['arrivals']} arrivals, its best the search's in {total['its best']} "
+              f"states, none found in {total['none found']}; {total['missed']} missed), {total['cells']} cells "
+              f"against the maps ({total['cell missed']} missed); {total['not compared']} not compared (the search "
+              f"not proven optimal).")
 
 
 if __name__ == "__main__":

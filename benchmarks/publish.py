@@ -31,12 +31,12 @@ Parts (all by default, in this order):
                       the values kappa_n in README.md
     completeness   python benchmarks/completeness.py
                    -> the residual assumption of the search's completeness as measured so far (every
-                      shard of search_residual.py and search_vs_maps.py, by commit) in
+                      committed shard of search_residual.py and search_vs_maps.py, by commit) in
                       benchmarks/README.md; records the shards' and the search code's hashes
     timings        ocp solve, ocp verify (and, with --time-tests, python -m pytest), timed here,
-                   with the times of the parts above, and python benchmarks/search_speed.py
-                   --processes (whole ocp solve processes and the search alone on the standard
-                   cases) -> the table "How long things take" in README.md
+                   with the times of the parts above (completeness aside: seconds), and python
+                   benchmarks/search_speed.py --processes (whole ocp solve processes and the search
+                   alone on the standard cases) -> the table "How long things take" in README.md
 
 Each part records, as soon as it ends, in benchmarks/results/published.json, the commit it measured, the command, the
 environment (`ocp.bench.environment`), the time, and the code it ran: every project file its
@@ -321,8 +321,11 @@ def timings(commit, records, time_tests, previous):
 def completeness(commit):
     from completeness import inputs
     shown = "python benchmarks/completeness.py"
+    before = inputs()
     seconds, out = run([sys.executable, "benchmarks/completeness.py"], shown)
-    record = {"commit": commit, "command": shown, "seconds": seconds, "environment": environment(), "inputs": inputs()}
+    if inputs() != before:
+        sys.exit("publish: a shard or the search's code changed while the completeness table was read; run it again")
+    record = {"commit": commit, "command": shown, "seconds": seconds, "environment": environment(), "inputs": before}
     replace_block(ROOT / "benchmarks" / "README.md", "completeness", f"    {shown}\n\n{out.strip()}\n\n{stamp(record)}")
     return record
 

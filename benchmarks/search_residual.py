@@ -1,6 +1,7 @@
-"""The residual assumption of the search's completeness, measured: the search against the exhaustive
-brute force of tests/test_search.py (a dense uniform grid of costate angles, every sign change solved)
-on random states and kappa, both kinds, both readings, one JSON line per state (resumable by seed).
+"""The residual assumption of the search's completeness, measured: the search against the brute force
+of tests/test_search.py (a uniform grid of costate angles, each sign change of a turning point's angle
+less a target between neighbours solved where it moves less than 1 rad) on random states and kappa,
+both kinds, both readings, one JSON line per state (resumable by seed).
 
     python benchmarks/search_residual.py [--fast] OUT.jsonl FIRST_SEED END_SEED  (seeds FIRST_SEED to END_SEED - 1)
     python benchmarks/search_residual.py --summary FILE.jsonl...

@@ -164,30 +164,36 @@ def test_the_search_code_is_what_searching_imports_at_any_depth():
 
 
 def test_a_commit_is_judged_by_the_code_of_the_search_at_it():
-    """HEAD's search is the tree's when the tree holds HEAD's code; one file's code changed is not."""
+    """ee6291e's search is the tree's (searching.py and what it imports unchanged since, docstrings
+    aside: the shards -y, -v, -w ran it); b7dfb3d's is older (searching.py and _taylor.c changed
+    after it); a commit with uncommitted changes, or none recorded, is unknown; one file's code
+    changed makes a commit older."""
     module = _benchmark("completeness")
     files = module.search_code()
     now = {path: module.code_hash(ROOT / path) for path in files}
-    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True).stdout.strip()
-    committed = {path: module.source_hash(module.git("show", f"HEAD:{path}").stdout, Path(path).suffix) for path in files}
-    assert module.same_search(head, files, committed)
-    assert not module.same_search(head, files, {**committed, "ocp/core/roots.py": "0" * 16})
-    assert (committed == now) == module.same_search(head, files, now)
+    assert module.verdict("ee6291e", files, now)[1] == "the tree"
+    assert module.verdict("b7dfb3d", files, now)[1] == "older"
+    assert module.verdict("ee6291e-dirty", files, now) == module.verdict(None, files, now) == ("?", "unknown")
+    assert module.verdict("ee6291e", files, {**now, "ocp/core/roots.py": "0" * 16})[1] == "older"
 
 
 def test_the_shards_are_counted_by_commit_and_verdict():
-    """A brute-force state compared (its arrivals and misses), one not proven optimal (apart), a fast
+    """Brute-force states compared (their arrivals and misses, whether the brute force's best is the
+    search's, to 1e-8 relative, and where it found none), one not proven optimal (apart), a fast
     start; map cells: the same extremal, unsettled and agreeing, the map slower, the search slower
     unsettled (a miss), a search stopped (apart)."""
-    rows = [("brute force", {"commit": "a", "n_brute": 3, "missing": [1.0]}),
+    rows = [("brute force", {"commit": "a", "n_brute": 3, "missing": [1.0], "best": 2.0, "brute_best": 1.0}),
+            ("brute force", {"commit": "a", "n_brute": 0, "missing": [], "best": 2.0, "brute_best": None}),
             ("brute force", {"commit": "a", "status": "stopped"}),
-            ("brute force", {"commit": "b", "n_brute": 1, "missing": [], "states": "fast"}),
+            ("brute force", {"commit": "b", "n_brute": 1, "missing": [], "states": "fast", "best": 2.0,
+                             "brute_best": 2.0 + 1e-9}),
             ("maps", {"commit": "a", "verdict": "same extremal"}),
             ("maps", {"commit": "a", "verdict": "unsettled, agree"}),
             ("maps", {"commit": "a", "verdict": "map slower"}),
             ("maps", {"commit": "a", "verdict": "unsettled, search slower"}),
             ("maps", {"commit": "b", "verdict": "stopped"})]
     counts = _benchmark("completeness").tally(rows)
-    assert counts["a"] == {"states": 1, "fast": 0, "arrivals": 3, "missed": 1, "cells": 4, "same": 1, "agree": 1,
-                           "map slower": 1, "cell missed": 1, "not compared": 1}
-    assert (counts["b"]["states"], counts["b"]["fast"], counts["b"]["cells"], counts["b"]["not compared"]) == (1, 1, 0, 1)
+    assert counts["a"] == {"states": 2, "fast": 0, "arrivals": 3, "its best": 0, "none found": 1, "missed": 1,
+                           "cells": 4, "same": 1, "agree": 1, "map slower": 1, "cell missed": 1, "not compared": 1}
+    b = counts["b"]
+    assert (b["states"], b["fast"], b["its best"], b["none found"], b["cells"], b["not compared"]) == (1, 1, 1, 0, 0, 1)

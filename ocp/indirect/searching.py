@@ -83,10 +83,12 @@ damping on the plane from (5.4978, 2.25) at kappa = 0.23424, an island 4e-5 wide
 extremal switches four times between samples that switch once, which bounds on its half alone call
 resolved; the split of the whole interval, which its other half forces, samples it again and finds
 it (tests/test_search.py). Judging each half alone would halve the cost of some fast starts; it lost this one.
-And one the scan as it stands misses (map 609 of benchmarks/search_vs_maps-x.jsonl, not yet diagnosed):
-damping on the plane from (-pi/2, -1.8) at kappa = 0.35834, an extremal with three switches reaching
-the target at 15.1777 that the scan to the acceptance 17.25 does not bracket; the search reports
-17.8644 (tests/test_search.py, a strict xfail until it is found). A label present at some of a, m, b only (its turning point crosses the horizon)
+And one the scan as it stands misses (map 609 of benchmarks/search_vs_maps-x.jsonl): damping on the
+plane from (-pi/2, -1.8) at kappa = 0.35834, an extremal with three switches reaching the target at
+15.1777 that the scan to the acceptance 17.25 does not bracket; the search reports 17.8644
+(tests/test_search.py, a strict xfail until it is found). Its costate angle, 0.925817, lies 1.5e-3
+inside the admissible interval's abnormal end (0.924338), where the turning point that arrives,
+(3, 0), exists on a window under 1e-4 wide (none of the brute force's 4,000 angles falls in it). A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split, unless its time there is late (DIP) and stays
 after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Intervals are not split
 below MIN_WIDTH; such an interval that is still unresolved is reported. A bracket whose root is not

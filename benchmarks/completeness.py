@@ -40,6 +40,12 @@ MAP_COLUMNS = {"same extremal": "same", "unsettled, agree": "agree", "map slower
                "unsettled, search slower": "missed"}
 
 
+def same_arrival(T, F):
+    """Whether the times T and F (each solved to CHECK accuracy at least) are one arrival's: within
+    1e-8 relative (search_residual.py's test of a miss too)."""
+    return abs(T - F) <= 1e-8 * T
+
+
 def git(*args):
     return subprocess.run(["git", "-C", str(ROOT), *args], capture_output=True, check=False)
 
@@ -103,8 +109,12 @@ def verdict(commit, files, now):
 def inputs():
     """{path: code hash} of what the table reads: the shards and the search's code (a change to
     either makes a published table stale: tests/test_published.py)."""
-    return {path: code_hash(ROOT / path) for _, path in shards()} | \
-        {path: code_hash(ROOT / path) for path in search_code()}
+    return {path: code_hash(ROOT / path) for _, path in shards()} | _hashes(search_code())
+
+
+def _hashes(files):
+    """{path: code hash now} of the project files `files`."""
+    return {path: code_hash(ROOT / path) for path in files}
 
 
 def tally(rows):
@@ -119,7 +129,7 @@ def tally(rows):
             c["states"] += 1
             c["fast"] += row.get("states") == "fast"
             c["arrivals"] += row["n_brute"]
-            c["its best"] += row["brute_best"] is not None and abs(row["brute_best"] - row["best"]) <= 1e-8 * row["best"]
+            c["its best"] += row["brute_best"] is not None and same_arrival(row["brute_best"], row["best"])
             c["none found"] += row["n_brute"] == 0
             c["missed"] += len(row["missing"])
         else:
@@ -135,7 +145,7 @@ def tally(rows):
 def main():
     rows = [(kind, json.loads(line)) for kind, path in shards() for line in (ROOT / path).read_text().splitlines()]
     files = search_code()
-    now = {path: code_hash(ROOT / path) for path in files}
+    now = _hashes(files)
     lines = sorted((*verdict(commit, files, now), commit or "none", c) for commit, c in tally(rows).items())
     print(f"The search's code: {', '.join(files)}.\n")
     print("| code of | committed | its search | brute force: states (fast starts) | its arrivals | its best the "

@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from completeness import same_arrival  # noqa: E402
 from search_cost import random_cases  # noqa: E402
 from test_search import BRUTE, brute_force  # noqa: E402
 
@@ -68,7 +69,7 @@ def summary(paths):
     compared = [r for r in rows if "missing" in r]
     missed = [(r["seed"], T) for r in compared for T in r["missing"]]
     # the brute force's own reach: the states where it found the search's best, and where it found none
-    same_best = sum(r["brute_best"] is not None and abs(r["brute_best"] - r["best"]) <= 1e-8 * r["best"] for r in compared)
+    same_best = sum(r["brute_best"] is not None and same_arrival(r["brute_best"], r["best"]) for r in compared)
     blind = sum(r["n_brute"] == 0 for r in compared)
     print(f"{len(rows)} states ({', '.join(f'{n} {s}' for s, n in sorted(statuses.items()))}); {len(compared)} compared "
           f"with the brute force ({sum(r['n_brute'] for r in compared)} arrivals; its best the search's in {same_best}, "
@@ -97,7 +98,8 @@ def main():
                 brute = [T for T in brute_force(problem, horizon, BRUTE, finest) if T <= horizon * 0.999]
                 found = [a.T for a in result.arrivals]
                 row.update(brute=[BRUTE, finest], reading=result.coverage.reading, best=found[0],
-                           brute_best=min(brute, default=None), n_brute=len(brute), missing=[T for T in brute if not any(abs(T - F) <= 1e-8 * T for F in found)],
+                           brute_best=min(brute, default=None), n_brute=len(brute),
+                           missing=[T for T in brute if not any(same_arrival(T, F) for F in found)],
                            seconds=time.time() - begun)
             out.write(json.dumps(row) + "\n")
             out.flush()

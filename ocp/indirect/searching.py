@@ -44,7 +44,10 @@ omega are transversal inside an arc and never at a switch, p1 omega = 1), a zero
 so where a, m, b see the same turning points, a half on which the bound excludes a zero, or shows
 omega(t_a, .) monotone (one crossing, seen by the samples), or bounds e(t_a, .) = omega^2 / 2 -
 cos(theta) above 1 (a rotation, omega^2 / 2 > 1 + cos(theta) >= 0: where the family rotates fast,
-omega(t_a, .) has the rotation's phase and e, smooth, has not), hides none (where they see different
+omega(t_a, .) has the rotation's phase and e, smooth, has not; unless the energy of an arc before t_a
+may be at a saddle's level on the half, `_may_pass_saddle`: there e(t_a, .) dips to the saddle's
+-cos(theta_s) < 1 on a window narrower than the samples, where the extremals linger by the saddle
+at t_a), hides none (where they see different
 ones, a turning point crossing the horizon, the rules for those below decide: near an extremal that
 reaches a saddle, omega(t_a, .) is too steep for the bound, and that check alone would bisect to
 MIN_WIDTH, 4 times the extremals). The same bound settles the later labels on a half: where it
@@ -75,7 +78,10 @@ times' and (the transit bound, where the samples see the same switches and turni
 those of theta and e at the recorded times and the switches stay below CURVATURE times their
 Hermite estimates (omega(t_a, .) and e(t_a, .) have a kink
 where a switch crosses t_a, their slope jumping by 2 kappa dt_s/dphi, times omega for e: it too), and the time of a label seen by some
-samples only stays above its tangents toward the others (`_dips`). A feature narrower than the half that shows in none of the values
+samples only stays above its tangents toward the others (`_dips`). By a saddle's passage the bound on
+omega(t_a, .) is trusted as it is elsewhere, that on e(t_a, .) is not (`_may_pass_saddle`): guarding
+omega's too would cost 3.4 times the extremals on the 156 searches of the fingerprint set, the guard
+on e's 1.2 % more. A feature narrower than the half that shows in none of the values
 and slopes at a, m, b (a pair of arrivals born at a fold between two samples) could break it; it is
 not proven, it is measured (benchmarks/search_residual.py: the search against an exhaustive brute force on random
 states and kappa; benchmarks/search_vs_maps.py: against the synthesis maps). One such feature is known:
@@ -83,12 +89,12 @@ damping on the plane from (5.4978, 2.25) at kappa = 0.23424, an island 4e-5 wide
 extremal switches four times between samples that switch once, which bounds on its half alone call
 resolved; the split of the whole interval, which its other half forces, samples it again and finds
 it (tests/test_search.py). Judging each half alone would halve the cost of some fast starts; it lost this one.
-And one the scan as it stands misses (map 609 of benchmarks/search_vs_maps-x.jsonl): damping on the
-plane from (-pi/2, -1.8) at kappa = 0.35834, an extremal with three switches reaching the target at
-15.1777 that the scan to the acceptance 17.25 does not bracket; the search reports 17.8644
-(tests/test_search.py, a strict xfail until it is found). Its costate angle, 0.925817, lies 1.5e-3
-inside the admissible interval's abnormal end (0.924338), where the turning point that arrives,
-(3, 0), exists on a window under 1e-4 wide (none of the brute force's 4,000 angles falls in it). A label present at some of a, m, b only (its turning point crosses the horizon)
+And one the scan missed before `_may_pass_saddle` (map 609 of benchmarks/search_vs_maps-x.jsonl):
+damping on the plane from (-pi/2, -1.8) at kappa = 0.35834, reported as 17.8644. Between two samples
+6.8e-5 apart in phi, both rotating at t_a = 17.25 (e = 12.4 and 7.0), the second arc's energy crosses
+the level of the saddle at theta = -2.775, and next to that crossing, on a window under 1e-4 wide,
+an extremal with three switches reaches the target at 15.1777 (tests/test_search.py).
+A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split, unless its time there is late (DIP) and stays
 after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Intervals are not split
 below MIN_WIDTH; such an interval that is still unresolved is reported. A bracket whose root is not
@@ -649,6 +655,39 @@ def _runs_through(a, m, b, arc, t, h):
     return True
 
 
+def _saddle_level(torque, k):
+    """The level of saddle k of an arc's field (torque tau = kappa u_j, |tau| < 1): the maximum of
+    V(theta) = -cos(theta) - tau theta at theta_k = pi - asin(tau) + 2 pi k (sin(theta_k) = tau,
+    cos(theta_k) < 0), V(theta_k) = sqrt(1 - tau^2) - tau (pi - asin(tau) + 2 pi k)."""
+    return math.sqrt(1 - torque * torque) - torque * (math.pi - math.asin(torque) + 2 * math.pi * k)
+
+
+def _may_pass_saddle(kappa, u0, a, m, b, last_arc, h):
+    """For each half of [a.phi, b.phi], whether the energy E_j of an arc j <= last_arc may lie at the
+    level of a saddle of its field there (`_saddle_level`; |kappa u_j| >= 1: no equilibrium). An
+    extremal whose arc j reaches a saddle stays there; its neighbours in phi leave it one way or the
+    other after a time growing as log(1 / |phi - phi_s|), so their states at a later fixed time change
+    across a window in phi narrower than any sample spacing (omega to 0 and back, e down to the
+    saddle's -cos(theta_k) < 1), which the values and slopes at a, m, b need not show. E_j passes the
+    level smoothly, bounded as theta_label is (`_reaches`); an arc some sample lacks may be at any."""
+    may = [False, False]
+    for arc in range(last_arc + 1):
+        torque = _torque(kappa, u0, arc)
+        if abs(torque) >= 1:
+            continue
+        values = [s.energies.get(arc) for s in (a, m, b)]
+        if None in values:
+            return True, True
+        (ea, dea), (em, dem), (eb, deb) = values
+        reach = _reaches(ea, em, eb, dea, dem, deb, h)
+        first, step = _saddle_level(torque, 0), 2 * math.pi * torque      # level k: first - k step
+        for half, (e0, e1) in enumerate(((ea, em), (em, eb))):
+            lo, hi = min(e0, e1) - reach[half], max(e0, e1) + reach[half]
+            ks = sorted(((first - lo) / step, (first - hi) / step))         # the k whose level is in [lo, hi]
+            may[half] = may[half] or not math.isfinite(ks[0] + ks[1]) or math.floor(ks[1]) >= ks[0]
+    return may[0], may[1]
+
+
 def _energy_excludes(problem, a, m, b, arc, h):
     """Whether no turning point of arc `arc` lies on an allowed target anywhere in [a.phi, b.phi]: on
     arc j (u = u_j) the energy E_j = omega^2 / 2 - cos(theta) - kappa u_j theta is constant, so its
@@ -860,7 +899,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
         s.omega(family, end) for s in (a, m, b))
     # per half: omega(end, .) has no zero there, or one (monotone), or e(end, .) > 1 there (a rotation:
     # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates)
-    quiet, e_reach, curvatures = [], None, _curvatures(wa, wm, wb, dwa, dwm, dwb, h)
+    quiet, e_reach, saddle, curvatures = [], None, None, _curvatures(wa, wm, wb, dwa, dwm, dwb, h)
     for half, (w0, w1, s0, s1, e0, e1) in enumerate(((wa, wm, dwa, dwm, ea, em), (wm, wb, dwm, dwb, em, eb))):
         bound = CURVATURE * curvatures[half]
         low, high = w1 if w1 < w0 else w0, w1 if w1 > w0 else w0       # min, max (as _curvatures writes them)
@@ -868,7 +907,11 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                 or (s0 * s1 > 0 and abs(s0 + s1) > bound * h))
         if not calm:
             e_reach = e_reach or _reaches(ea, em, eb, dea, dem, deb, h)
-            calm = min(e0, e1) - e_reach[half] > 1
+            # e(end, .) > 1, unless an arc before `end` may pass by a saddle there (e dips below 1 unseen)
+            if min(e0, e1) - e_reach[half] > 1:
+                saddle = saddle or _may_pass_saddle(problem.kappa, a.u0, a, m, b,
+                                                    max(a.arc(end), m.arc(end), b.arc(end)), h)
+                calm = not saddle[half]
         quiet.append(calm)
     hidden = not (quiet[0] and quiet[1])
     # a quiet half whose ends see the same turning points before `end` has no zero of omega(end, .) (one

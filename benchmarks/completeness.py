@@ -1,8 +1,9 @@
 """The residual assumption of the search's completeness, as measured so far: every committed shard
-of benchmarks/search_residual.py (the search against a brute force) and benchmarks/search_vs_maps.py
-(against the synthesis maps) in benchmarks/ (files tracked by git only: a shard still being written
-is not counted), by the commit of the code that ran it, and whether that commit's search is the
-tree's.
+of benchmarks/search_residual.py (the search against a brute force), benchmarks/search_vs_maps.py
+(against the synthesis maps) and benchmarks/search_saddle_audit.py (the halves settled by omega's
+bound by a saddle, sampled inside) in benchmarks/ (files tracked by git only: a shard still being
+written is not counted), by the commit of the code that ran it, and whether that commit's search is
+the tree's.
 
     python benchmarks/completeness.py
 
@@ -18,7 +19,9 @@ the search's and where it found none: "0 missed" checks nothing there) and the a
 did not report; then the map cells by verdict (`search_vs_maps`: the same extremal; unsettled and
 agreeing; the map's extremal slower, settled or not; the map's faster than the search's answer,
 settled or not: a miss). States and cells whose search was not proven optimal are not compared,
-and counted apart.
+and counted apart. Below it, the audit by saddles, for the search as it stands and for every shard:
+its states, the halves audited, those hiding a turning point, and the hidden arrivals before the
+search's best (an arrival the search may have missed).
 """
 
 import ast
@@ -30,10 +33,11 @@ from pathlib import Path
 from measured import code_hash, extension_sources, source_hash
 
 ROOT = Path(__file__).resolve().parents[1]
-SHARDS = {"brute force": "benchmarks/search_residual*.jsonl", "maps": "benchmarks/search_vs_maps*.jsonl"}
+SHARDS = {"brute force": "benchmarks/search_residual*.jsonl", "maps": "benchmarks/search_vs_maps*.jsonl",
+          "saddle audit": "benchmarks/search_saddle_audit*.jsonl"}
 SEARCH = "ocp/indirect/searching.py"
 COUNTS = ("states", "fast", "arrivals", "its best", "none found", "missed", "cells", "same", "agree", "map slower",
-          "cell missed", "not compared")
+          "cell missed", "not compared", "audited", "halves", "hiding", "hidden arrivals")
 #: a map cell's verdict -> its column
 MAP_COLUMNS = {"same extremal": "same", "unsettled, agree": "agree", "map slower": "map slower",
                "unsettled, map slower": "map slower", "search missed": "missed",
@@ -132,6 +136,11 @@ def tally(rows):
             c["its best"] += row["brute_best"] is not None and same_arrival(row["brute_best"], row["best"])
             c["none found"] += row["n_brute"] == 0
             c["missed"] += len(row["missing"])
+        elif kind == "saddle audit":
+            c["audited"] += 1
+            c["halves"] += row["halves"]
+            c["hiding"] += row["hiding"]
+            c["hidden arrivals"] += len(row["hidden_arrivals"])
         else:
             column = MAP_COLUMNS.get(row["verdict"])
             if column is None:
@@ -159,11 +168,14 @@ def main():
     for label, chosen in (("The search as it stands", [line for line in lines if line[1] == "the tree"]),
                           ("Every shard", lines)):
         total = {k: sum(line[3][k] for line in chosen) for k in COUNTS}
-        print(f"\n{label} ({len(chosen)} lines): {total['states']} states against the brute force "
-              f"({total['fast']} fast starts; {total['arrivals']} arrivals, its best the search's in {total['its best']} "
-              f"states, none found in {total['none found']}; {total['missed']} missed), {total['cells']} cells "
-              f"against the maps ({total['cell missed']} missed); {total['not compared']} not compared (the search "
-              f"not proven optimal).")
+        print(f"\n{label} ({len(chosen)} lines): {total['states']} states against the brute "
+              f"force ({total['fast']} fast starts; {total['arrivals']} arrivals, its best the search's in "
+              f"{total['its best']} states, none found in {total['none found']}; {total['missed']} missed), "
+              f"{total['cells']} cells against the maps ({total['cell missed']} missed); {total['not compared']} not "
+              f"compared (the search not proven optimal). The audit by saddles: {total['audited']} states, "
+              f"{total['halves']} halves settled by omega's bound where an arc may pass by a saddle, "
+              f"{total['hiding']} hiding a turning point, {total['hidden arrivals']} hidden arrivals before the "
+              f"search's best.")
 
 
 if __name__ == "__main__":

@@ -31,8 +31,9 @@ Parts (all by default, in this order):
                       the values kappa_n in README.md
     completeness   python benchmarks/completeness.py
                    -> the residual assumption of the search's completeness as measured so far (every
-                      committed shard of search_residual.py and search_vs_maps.py, by commit) in
-                      benchmarks/README.md; records the shards' and the search code's hashes
+                      committed shard of search_residual.py, search_vs_maps.py and
+                      search_saddle_audit.py, by commit) in benchmarks/README.md; records the shards'
+                      and the search code's hashes
     timings        ocp solve, ocp verify (and, with --time-tests, python -m pytest), timed here,
                    with the times of the parts above (completeness aside: seconds), and python
                    benchmarks/search_speed.py --processes (whole ocp solve processes and the search

@@ -54,6 +54,23 @@ def git(*args):
     return subprocess.run(["git", "-C", str(ROOT), *args], capture_output=True, check=False)
 
 
+def shard_commit():
+    """The commit a shard records as the code that ran: `git describe --always` of this checkout. A run
+    with uncommitted changes to tracked files (a shard being written is untracked), or whose `ocp` is
+    imported from elsewhere (an editable install of another checkout), would record a commit that is
+    not the code that runs: refused, with the reason, exit status 2."""
+    import ocp
+    described = git("describe", "--always", "--dirty").stdout.decode().strip()
+    reason = (f"`ocp` is imported from {Path(ocp.__file__).parent}, not this checkout's {ROOT / 'ocp'}"
+              if Path(ocp.__file__).resolve().parent != ROOT / "ocp" else
+              "this checkout has uncommitted changes: commit them first" if described.endswith("-dirty") else
+              "no commit to record: not a git checkout" if not described else None)
+    if reason:
+        print(f"a shard records the commit of the code that runs; {reason}", file=sys.stderr)
+        sys.exit(2)
+    return described
+
+
 def _module_file(name):
     """The project files of the module `name` (dotted): its .py, or an extension's C sources, or none."""
     extensions = extension_sources()

@@ -22,11 +22,11 @@ check that can only find misses among the arrivals it sees).
 
 A line: the problem, the search's status and reading, its best T, the brute force's best and count,
 `missing`: the brute-force arrivals (before the search's horizon) that the search did not find, and
-the commit of the code that ran (`git describe --always --dirty` of this checkout, at the start).
+the commit of the code that ran (`completeness.shard_commit`, at the start: a checkout with
+uncommitted changes is refused).
 """
 
 import json
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-from completeness import same_arrival  # noqa: E402
+from completeness import same_arrival, shard_commit  # noqa: E402
 from search_cost import random_cases  # noqa: E402
 from test_search import BRUTE, brute_force  # noqa: E402
 
@@ -81,8 +81,7 @@ def main():
         return summary(sys.argv[2:])
     fast = sys.argv[1] == "--fast"
     out_path, first, last = sys.argv[1 + fast], int(sys.argv[2 + fast]), int(sys.argv[3 + fast])
-    commit = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=Path(__file__).parent, capture_output=True,
-                            text=True).stdout.strip() or "unknown"
+    commit = shard_commit()
     with open(out_path, "a") as out:
         for seed in range(first, last):
             problem = state(seed, fast)

@@ -13,11 +13,11 @@ search may have missed.
 
 A line: the seed, the problem, the search's status and best T, the halves audited, those hiding a
 turning point, the hidden arrivals found (phi bracket, label, branch, time), and the commit of the code
-that ran (`git describe --always --dirty`, at the start).
+that ran (`completeness.shard_commit`, at the start: a checkout with uncommitted changes is
+refused).
 """
 
 import json
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from completeness import shard_commit  # noqa: E402
 from search_residual import state  # noqa: E402
 
 from ocp.indirect import searching as S  # noqa: E402
@@ -103,8 +104,7 @@ def main():
     if sys.argv[1] == "--summary":
         return summary(sys.argv[2:])
     out_path, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-    commit = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=Path(__file__).parent, capture_output=True,
-                            text=True).stdout.strip()
+    commit = shard_commit()
     done = {json.loads(line)["seed"] for line in Path(out_path).read_text().splitlines()} if Path(out_path).exists() else set()
     with open(out_path, "a") as out:
         for seed in range(first, last):

@@ -30,18 +30,18 @@ time-to-go s from x0 is that of an admissible extremal, so s >= T* and the searc
 
 A line: the map seed and case, the state, V, the coarse V, the search's status, T and T_error,
 the verdict (with the exact s where settled), seconds, and the commit of the code that ran
-(`git describe --always --dirty`).
+(`completeness.shard_commit`: a checkout with uncommitted changes is refused).
 """
 
 import json
 import math
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+from completeness import shard_commit
 from ocp.core.problem import KINDS, make
 from ocp.indirect import search, taylor
 from ocp.synthesis.field import Window, synthesize
@@ -163,8 +163,7 @@ def main():
         return summary(sys.argv[2:])
     out_path, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
     cells = int(sys.argv[sys.argv.index("--cells") + 1]) if "--cells" in sys.argv else 100
-    commit = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=Path(__file__).parent, capture_output=True,
-                            text=True).stdout.strip() or "unknown"
+    commit = shard_commit()
     done = {json.loads(line)["map"] for line in Path(out_path).read_text().splitlines()} if Path(out_path).exists() else set()
     with open(out_path, "a") as out:
         for seed in range(first, last):

@@ -201,3 +201,25 @@ def test_the_shards_are_counted_by_commit_and_verdict():
                            "audited": 2, "halves": 5, "hiding": 2, "hidden arrivals": 1}
     b = counts["b"]
     assert (b["states"], b["fast"], b["its best"], b["none found"], b["cells"], b["not compared"]) == (1, 1, 1, 0, 0, 1)
+
+
+def test_a_shard_records_only_a_commit_that_is_the_code_that_runs(monkeypatch, capsys):
+    """`completeness.shard_commit`: this checkout's commit, refused (exit 2, the reason on stderr) where
+    the tracked files have uncommitted changes or `ocp` is imported from another checkout."""
+    import subprocess
+
+    import ocp
+    module = _benchmark("completeness")
+    described = {"text": b"abc1234"}
+    monkeypatch.setattr(module, "git", lambda *args: subprocess.CompletedProcess(args, 0, described["text"], b""))
+    monkeypatch.setattr(ocp, "__file__", str(module.ROOT / "ocp" / "__init__.py"))
+    assert module.shard_commit() == "abc1234"
+    described["text"] = b"abc1234-dirty"
+    with pytest.raises(SystemExit) as stop:
+        module.shard_commit()
+    assert stop.value.code == 2 and "uncommitted changes" in capsys.readouterr().err
+    described["text"] = b"abc1234"
+    monkeypatch.setattr(ocp, "__file__", "/elsewhere/checkout/ocp/__init__.py")
+    with pytest.raises(SystemExit) as stop:
+        module.shard_commit()
+    assert stop.value.code == 2 and "imported from /elsewhere/checkout/ocp" in capsys.readouterr().err

@@ -17,9 +17,12 @@ line of the table: the commit, its date, that verdict; the states against the br
 the fast starts of --fast), the brute force's own reach (its arrivals, the states where its best is
 the search's and where it found none: "0 missed" checks nothing there) and the arrivals the search
 did not report; then the map cells by verdict (`search_vs_maps`: the same extremal; unsettled and
-agreeing; the map's extremal slower, settled or not; the map's faster than the search's answer,
-settled or not: a miss). States and cells whose search was not proven optimal are not compared,
-and counted apart. Below it, the audit by saddles, for the search as it stands and for every shard:
+agreeing; the map's extremal slower, settled or not; the map's value below the search's answer
+where the map's extremals near the cell pass it by: not attained, no extremal's; the map's faster
+than the search's answer, settled or not: a miss), a cell's verdict judged again by
+benchmarks/map_settlements.jsonl where that holds one for it (`search_vs_maps.py --settle`: the cells
+an earlier version of that script left unsettled). States and cells whose search was not proven
+optimal are not compared, and counted apart. Below it, the audit by saddles, for the search as it stands and for every shard:
 its states, the halves audited, those hiding a turning point, and the hidden arrivals before the
 search's best (an arrival the search may have missed).
 """
@@ -35,13 +38,14 @@ from measured import code_hash, extension_sources, source_hash
 ROOT = Path(__file__).resolve().parents[1]
 SHARDS = {"brute force": "benchmarks/search_residual*.jsonl", "maps": "benchmarks/search_vs_maps*.jsonl",
           "saddle audit": "benchmarks/search_saddle_audit*.jsonl"}
+SETTLEMENTS = "benchmarks/map_settlements.jsonl"
 SEARCH = "ocp/indirect/searching.py"
 COUNTS = ("states", "fast", "arrivals", "its best", "none found", "missed", "cells", "same", "agree", "map slower",
-          "cell missed", "not compared", "audited", "halves", "hiding", "hidden arrivals")
+          "not attained", "cell missed", "not compared", "audited", "halves", "hiding", "hidden arrivals")
 #: a map cell's verdict -> its column
 MAP_COLUMNS = {"same extremal": "same", "unsettled, agree": "agree", "map slower": "map slower",
-               "unsettled, map slower": "map slower", "search missed": "missed",
-               "unsettled, search slower": "missed"}
+               "unsettled, map slower": "map slower", "unsettled, not attained": "not attained",
+               "search missed": "missed", "unsettled, search slower": "missed"}
 
 
 def same_arrival(T, F):
@@ -110,6 +114,20 @@ def shards():
             for path in sorted(git("ls-files", pattern).stdout.decode().split())]
 
 
+def settled(rows, settlements):
+    """The shards' (kind, row) with each map cell that a settlement judges again (the same map, x0
+    and commit of its search) given the settlement's verdict."""
+    judged = {(s["map"], tuple(s["x0"]), s["of"]): s["verdict"] for s in settlements}
+    return [(kind, {**row, "verdict": judged.get((row["map"], tuple(row["x0"]), row.get("commit")), row["verdict"])}
+             if kind == "maps" else row) for kind, row in rows]
+
+
+def read_settlements():
+    """The settlements' rows, if git tracks the file."""
+    tracked = git("ls-files", SETTLEMENTS).stdout.decode().split()
+    return [json.loads(line) for path in tracked for line in (ROOT / path).read_text().splitlines()]
+
+
 def same_search(commit, files, now):
     """Whether every file of `files` has at `commit` the code hash `now` gives it."""
     for path in files:
@@ -130,7 +148,8 @@ def verdict(commit, files, now):
 def inputs():
     """{path: code hash} of what the table reads: the shards and the search's code (a change to
     either makes a published table stale: tests/test_published.py)."""
-    return {path: code_hash(ROOT / path) for _, path in shards()} | _hashes(search_code())
+    tracked = [path for _, path in shards()] + git("ls-files", SETTLEMENTS).stdout.decode().split()
+    return {path: code_hash(ROOT / path) for path in tracked} | _hashes(search_code())
 
 
 def _hashes(files):
@@ -169,26 +188,28 @@ def tally(rows):
 
 
 def main():
-    rows = [(kind, json.loads(line)) for kind, path in shards() for line in (ROOT / path).read_text().splitlines()]
+    rows = settled([(kind, json.loads(line)) for kind, path in shards() for line in (ROOT / path).read_text().splitlines()],
+                   read_settlements())
     files = search_code()
     now = _hashes(files)
     lines = sorted((*verdict(commit, files, now), commit or "none", c) for commit, c in tally(rows).items())
     print(f"The search's code: {', '.join(files)}.\n")
     print("| code of | committed | its search | brute force: states (fast starts) | its arrivals | its best the "
           "search's | it found none | missed | maps: cells | same extremal | unsettled, agreeing | the map's slower "
-          "| missed | not compared |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+          "| not attained | missed | not compared |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for stamp, judged, commit, c in lines:
         print(f"| {commit} | {stamp[:10]} | {judged} | {c['states']} ({c['fast']}) | {c['arrivals']} | {c['its best']} | "
               f"{c['none found']} | {c['missed']} | {c['cells']} | {c['same']} | {c['agree']} | {c['map slower']} | "
-              f"{c['cell missed']} | {c['not compared']} |")
+              f"{c['not attained']} | {c['cell missed']} | {c['not compared']} |")
     for label, chosen in (("The search as it stands", [line for line in lines if line[1] == "the tree"]),
                           ("Every shard", lines)):
         total = {k: sum(line[3][k] for line in chosen) for k in COUNTS}
         print(f"\n{label} ({len(chosen)} lines): {total['states']} states against the brute "
               f"force ({total['fast']} fast starts; {total['arrivals']} arrivals, its best the search's in "
               f"{total['its best']} states, none found in {total['none found']}; {total['missed']} missed), "
-              f"{total['cells']} cells against the maps ({total['cell missed']} missed); {total['not compared']} not "
+              f"{total['cells']} cells against the maps ({total['cell missed']} missed, {total['not attained']} where "
+              f"the map's value is not attained); {total['not compared']} not "
               f"compared (the search not proven optimal). The audit by saddles: {total['audited']} states, "
               f"{total['halves']} halves settled by omega's bound where an arc may pass by a saddle, "
               f"{total['hiding']} hiding a turning point, {total['hidden arrivals']} hidden arrivals before the "

@@ -24,9 +24,22 @@ time-to-go s from x0 is that of an admissible extremal, so s >= T* and the searc
     search missed  s below that: an extremal faster than the search's answer, not reported by it
     map slower     s above it: the map's strip at the node holds a slower extremal (near a switching
                    or dispersal curve the nearest triangle may be another extremal's)
-    unsettled      Newton did not converge; then "agree" (|T - V| <= SAFETY |V_coarse - V| +
-                   T_error + FLOOR max(1, V)), "search slower" or "map slower" by the maps' values
+    unsettled      Newton did not converge, from the map's (psi, V) nor from the closest approach
+                   of the map's extremals to x0 (`closest`, Nelder-Mead in (psi, s) from there,
+                   tried where it is below POLISH: "settled_by" then says so); then "agree"
+                   (|T - V| <= SAFETY |V_coarse - V| + T_error + FLOOR max(1, V)), "search slower"
+                   or "map slower" by the maps' values, and "not attained" for a search slower
+                   where that approach misses x0 by more than NOT_ATTAINED: the map's value there
+                   is no extremal's (a node beside a fold of its field, where V is Hoelder-1/2)
     (status)       the search not proven optimal: "best found", "stopped", "none" (not compared)
+
+    python benchmarks/search_vs_maps.py --settle OUT.jsonl FILE.jsonl...
+
+judges again the cells of FILEs left "unsettled, search slower" by an earlier version of this
+script (before `closest`; the search's answer as they recorded it, the maps drawn again): a line
+each, with the cell's map and x0, the commit of the search it judges (`of`) and of the code that
+judged it (`commit`); benchmarks/completeness.py reads OUT (benchmarks/map_settlements.jsonl) over
+those cells' verdicts.
 
 A line: the map seed and case, the state, V, the coarse V, the search's status, T and T_error,
 the verdict (with the exact s where settled), seconds, and the commit of the code that ran
@@ -40,6 +53,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from scipy.optimize import minimize
 
 from completeness import shard_commit
 from ocp.core.problem import KINDS, make
@@ -55,6 +69,9 @@ SAFETY = 3.0
 FLOOR = 1e-7
 #: relative agreement of the search's T and the exact time of the map's extremal: the same extremal
 EXACT = 1e-9
+#: Newton (`through`) is tried again from the `closest` approach of the map's extremals to x0 where it
+#: is below this; where it is above NOT_ATTAINED, the map's value is not an extremal's at x0
+POLISH, NOT_ATTAINED = 1e-6, 1e-8
 
 
 def horizon(kappa):
@@ -105,6 +122,35 @@ def through(kind, kappa, x0, psi, s):
     return None
 
 
+def closest(kind, kappa, x0, psi, s, spread):
+    """(miss, psi, s): the least distance from x0 found among the extremals ending at the target with
+    final costate angle near psi and time-to-go near s, by Nelder-Mead in (psi, s) from there (its
+    first simplex `spread` = (dpsi, ds) wide; CHECK integration backwards from the target, as
+    `through`). Where the map's node lies beside a fold of its field (the extremals' map (psi, s) ->
+    x of rank 1: an arc that ends at the target as a turning point, reached by none that switch
+    there; the value Hoelder-1/2 across it, which the maps' triangles, linear, do not resolve and
+    their coarse and fine values may agree on) Newton from the map's (psi, V) diverges, and this
+    finds the map's extremal through x0 where one is near, or how far its family passes from x0."""
+    tol, order = taylor.CHECK
+    switches, events, samples = np.empty((512, 5)), np.empty((512, 6)), np.empty((1, 3))
+
+    def miss(z):
+        psi, s = z
+        if not 0 < s < 1e4:
+            return math.inf
+        y0 = (KINDS[kind].target_base, 0.0, math.cos(psi), math.sin(psi))
+        n_sw, n_ev, *_ = taylor.extremal(y0, kappa, 1.0 if math.sin(psi) > 0 else -1.0, s * 1.001 + 1e-9, -1.0, tol,
+                                         order, switches, events, np.array([s]), samples)
+        if n_sw > len(switches) or n_ev > len(events):
+            return math.inf
+        return math.hypot(samples[0, 0] - x0[0], samples[0, 1] - x0[1])
+
+    start = np.array([[psi, s], [psi + spread[0], s], [psi, s + spread[1]]])
+    found = minimize(miss, start[0], method="Nelder-Mead",
+                     options={"initial_simplex": start, "xatol": 1e-13, "fatol": 1e-15, "maxiter": 2000})
+    return float(found.fun), float(found.x[0]), float(found.x[1])
+
+
 def compare(seed, cells, commit):
     """The lines of map `seed`: `cells` random nodes, each searched and compared with the maps."""
     kind, reading, kappa, bounds = map_case(seed)
@@ -125,21 +171,59 @@ def compare(seed, cells, commit):
         if found.status == "optimal":
             T, T_error = found.best.T, found.best.T_error
             branch = int(fine.branch[2 * i, 2 * j])
-            exact = through(kind, kappa, (x0[0] - 2 * math.pi * branch, x0[1]), float(np.mean(fine.psi[2 * i, 2 * j])), V)
             row.update(T=T, T_error=T_error, map_branch=branch)
-            if exact is not None:
-                tolerance = T_error + EXACT * max(1.0, T)
-                verdict = "same extremal" if abs(exact[0] - T) <= tolerance else \
-                    ("search missed" if exact[0] < T else "map slower")
-                row.update(exact_s=exact[0], exact_psi=exact[1], tolerance=tolerance, verdict=verdict)
-            else:
-                tolerance = SAFETY * abs(V_coarse - V) + T_error + FLOOR * max(1.0, V)
-                verdict = "agree" if abs(T - V) <= tolerance else ("search slower" if T > V else "map slower")
-                row.update(tolerance=tolerance, verdict="unsettled, " + verdict)
+            row.update(judge(kind, kappa, x0, branch, fine.psi[2 * i, 2 * j], V, V_coarse, T, T_error))
         else:
             row.update(verdict=found.status)
         row["seconds"] = time.time() - begun
         yield row
+
+
+def judge(kind, kappa, x0, branch, psi, V, V_coarse, T, T_error):
+    """The verdict of a cell (the module's docstring) and what settled it: the map's extremal through
+    x0 by `through` from the map's (psi, V), else from the `closest` approach of its extremals to x0
+    where that is below POLISH ("settled_by": "closest"); else unsettled, by the maps' values, with
+    the closest approach recorded."""
+    x0 = (x0[0] - 2 * math.pi * branch, x0[1])
+    psi_lo, psi_hi = float(psi[0]), float(psi[1])
+    exact, out = through(kind, kappa, x0, 0.5 * (psi_lo + psi_hi), V), {}
+    if exact is None:
+        miss, psi_c, s_c = closest(kind, kappa, x0, 0.5 * (psi_lo + psi_hi), V,
+                                   (max(psi_hi - psi_lo, 1e-6), max(SAFETY * abs(V - V_coarse), 1e-3)))
+        exact = through(kind, kappa, x0, psi_c, s_c) if miss < POLISH else None
+        out = {"settled_by": "closest"} if exact is not None else {"closest_miss": miss, "closest_s": s_c}
+    if exact is not None:
+        tolerance = T_error + EXACT * max(1.0, T)
+        verdict = "same extremal" if abs(exact[0] - T) <= tolerance else ("search missed" if exact[0] < T else "map slower")
+        return {**out, "exact_s": exact[0], "exact_psi": exact[1], "tolerance": tolerance, "verdict": verdict}
+    tolerance = SAFETY * abs(V_coarse - V) + T_error + FLOOR * max(1.0, V)
+    verdict = "agree" if abs(T - V) <= tolerance else ("search slower" if T > V else "map slower")
+    if verdict == "search slower" and out["closest_miss"] > NOT_ATTAINED:
+        verdict = "not attained"
+    return {**out, "tolerance": tolerance, "verdict": "unsettled, " + verdict}
+
+
+def settle(out_path, paths):
+    """Judges again, by `judge`, the cells of the shards `paths` left "unsettled, search slower" (the
+    search's answer as they recorded it; the maps drawn again): a line each in out_path, with the
+    cell's map, x0 and the commit of its search (`of`)."""
+    rows = [json.loads(line) for path in paths for line in Path(path).read_text().splitlines()]
+    commit = shard_commit()
+    with open(out_path, "a") as out:
+        for r in rows:
+            if r["verdict"] != "unsettled, search slower":
+                continue
+            kind, reading, kappa, bounds = map_case(r["map"])
+            fine = synthesize(kind, kappa, reading, Window(*bounds, 2 * COARSE - 1, 2 * COARSE - 1), horizon(kappa),
+                              2 * SAMPLES)
+            i, j = (int(np.argmin(np.abs(axis - x))) for axis, x in zip((fine.window.theta, fine.window.omega), r["x0"]))
+            if fine.V[i, j] != r["V"]:
+                raise RuntimeError(f"map {r['map']} drawn again gives V = {fine.V[i, j]!r} at {r['x0']}, "
+                                   f"recorded {r['V']!r}: not the map the cell was compared with")
+            judged = judge(kind, kappa, r["x0"], int(fine.branch[i, j]), fine.psi[i, j], r["V"], r["V_coarse"],
+                           r["T"], r["T_error"])
+            out.write(json.dumps({"map": r["map"], "x0": r["x0"], "of": r["commit"], "was": r["verdict"], **judged,
+                                  "commit": commit}) + "\n")
 
 
 def summary(paths):
@@ -161,6 +245,8 @@ def summary(paths):
 def main():
     if sys.argv[1] == "--summary":
         return summary(sys.argv[2:])
+    if sys.argv[1] == "--settle":
+        return settle(sys.argv[2], sys.argv[3:])
     out_path, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
     cells = int(sys.argv[sys.argv.index("--cells") + 1]) if "--cells" in sys.argv else 100
     commit = shard_commit()

@@ -192,15 +192,56 @@ def test_the_shards_are_counted_by_commit_and_verdict():
             ("maps", {"commit": "a", "verdict": "unsettled, agree"}),
             ("maps", {"commit": "a", "verdict": "map slower"}),
             ("maps", {"commit": "a", "verdict": "unsettled, search slower"}),
+            ("maps", {"commit": "a", "verdict": "unsettled, not attained"}),
             ("maps", {"commit": "b", "verdict": "stopped"}),
             ("saddle audit", {"commit": "a", "halves": 5, "hiding": 2, "hidden_arrivals": [[0.1, 0.2, [3, 0], 0, 4.0]]}),
             ("saddle audit", {"commit": "a", "halves": 0, "hiding": 0, "hidden_arrivals": []})]
     counts = _benchmark("completeness").tally(rows)
     assert counts["a"] == {"states": 2, "fast": 0, "arrivals": 3, "its best": 0, "none found": 1, "missed": 1,
-                           "cells": 4, "same": 1, "agree": 1, "map slower": 1, "cell missed": 1, "not compared": 1,
+                           "cells": 5, "same": 1, "agree": 1, "map slower": 1, "not attained": 1, "cell missed": 1,
+                           "not compared": 1,
                            "audited": 2, "halves": 5, "hiding": 2, "hidden arrivals": 1}
     b = counts["b"]
     assert (b["states"], b["fast"], b["its best"], b["none found"], b["cells"], b["not compared"]) == (1, 1, 1, 0, 0, 1)
+
+
+def test_a_settlement_judges_again_only_its_own_cell():
+    """A settlement replaces the verdict of the map cell of its map, x0 and search commit (`of`), and
+    of no other: the same cell of another commit's search, another cell, a brute-force row."""
+    module = _benchmark("completeness")
+    cell = {"map": 655, "x0": [2.8, -2.3], "verdict": "unsettled, search slower"}
+    rows = [("maps", {**cell, "commit": "a"}), ("maps", {**cell, "commit": "b"}),
+            ("maps", {**cell, "x0": [2.8, -2.4], "commit": "a"}), ("brute force", {"commit": "a", "missing": []})]
+    out = module.settled(rows, [{"map": 655, "x0": [2.8, -2.3], "of": "a", "verdict": "unsettled, not attained"}])
+    assert [row.get("verdict") for _, row in out] == ["unsettled, not attained", "unsettled, search slower",
+                                                        "unsettled, search slower", None]
+
+
+# the cells of map 655 and 581 (benchmarks/search_vs_maps-z.jsonl at 5db98e9): the map's value V below the
+# search's T beyond the maps' error estimate, and Newton from the map's (psi, V) diverging; psi is the node's
+# interval of final costate angles, V and V_coarse the fine and coarse maps' values there (drawn again)
+MAP_655 = dict(kind="swing-up", kappa=0.21660060306489817, x0=(2.827433388230814, -2.325), branch=-2,
+               psi=(2.331459, 2.331483), V=7.702554860119428, V_coarse=7.702574636063258, T=7.755984476535616,
+               T_error=6.553013045812907e-11)
+MAP_581 = dict(kind="swing-up", kappa=0.22971745257716833, x0=(-0.15707963267948966, -1.125), branch=0,
+               psi=(5.66959299, 5.68186484), V=9.116213421557052, V_coarse=9.11285697273387, T=9.699121003743494,
+               T_error=7.942610396038971e-12)
+
+
+def test_a_cell_by_a_fold_of_the_map_is_not_attained_and_one_beside_a_jump_is_the_same_extremal():
+    """Map 655's node lies beside the fold of its field: its extremals there end at the target on
+    an arc u = +1 that turns there, the same curve for every psi (rank 1), which passes x0 at
+    1.4e-5 at best: the map's 7.7026 is no extremal's (the search's answer is 7.7560, one switch,
+    u = -1 last). Map 581's node lies
+    where V jumps between neighbours (9.6, 9.1, 13.3): from the closest approach, Newton finds the
+    map's extremal through x0, the search's."""
+    module = _benchmark("search_vs_maps")
+    fold = module.judge(**MAP_655)
+    assert fold["verdict"] == "unsettled, not attained"
+    assert 1e-5 < fold["closest_miss"] < 2e-5 and abs(fold["closest_s"] - MAP_655["V"]) < 1e-4
+    jump = module.judge(**MAP_581)
+    assert jump["verdict"] == "same extremal" and jump["settled_by"] == "closest"
+    assert abs(jump["exact_s"] - MAP_581["T"]) < 1e-8
 
 
 def test_a_shard_records_only_a_commit_that_is_the_code_that_runs(monkeypatch, capsys):

@@ -3,7 +3,7 @@ of tests/test_search.py (a uniform grid of costate angles, each sign change of a
 less a target between neighbours solved where it moves less than 1 rad) on random states and kappa,
 both kinds, both readings, one JSON line per state (resumable by seed).
 
-    python benchmarks/search_residual.py [--fast] OUT.jsonl FIRST_SEED END_SEED  (seeds FIRST_SEED to END_SEED - 1)
+    python benchmarks/search_residual.py [--fast | --small] OUT.jsonl FIRST_SEED END_SEED  (seeds FIRST_SEED to END_SEED - 1)
     python benchmarks/search_residual.py --summary FILE.jsonl...
 
 The states: theta0 in [-4, 4], omega0 in [-3, 3] (0 one time in five), kappa log-uniform in
@@ -13,7 +13,11 @@ many times per radian of phi: there a pair of neighbouring angles between which 
 angle moves 1 rad or more is bisected for it down to FAST_FINEST (tests/test_search.py's
 `brute_force`; a uniform grid of 40,000 angles, this script's first fast shards, found none of the
 arrivals of one state in five, and the bisection from 4,000 finds some of those at a fifth of its
-cost). A line records the brute force it ran (`brute`: angles per half-circle, finest width).
+cost). With --small, the box's states at kappa log-uniform in [0.05, 0.2], the rest of the range
+the command line accepts (the extremals there pass near the upright many times before an arrival:
+steep pairs bisected as on the fast starts; a seed's state is not the box's at another kappa).
+A line records the brute force it ran (`brute`: angles per half-circle, finest width) and the kind
+of its states (`states`: box, fast or small).
 
 Shards are seed ranges (run them in parallel, under nice, each into its own file); --summary counts
 the states of every file given, by status, and the brute-force arrivals missed, and the brute
@@ -50,12 +54,13 @@ STARVED = 20
 FAST_FINEST = 1e-9
 
 
-def state(seed, fast=False):
-    if fast:
+def state(seed, states="box"):
+    """The problem of `seed` among `states` (box, fast or small: the module's docstring)."""
+    if states == "fast":
         return make(*random_cases(1, seed)[0])
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(seed if states == "box" else [seed, 2])
     kind = str(rng.choice(["swing-up", "damping"]))
-    kappa = float(10 ** rng.uniform(np.log10(0.2), 1))
+    kappa = float(10 ** rng.uniform(*np.log10((0.2, 10) if states == "box" else (0.05, 0.2))))
     x0 = (float(rng.uniform(-4, 4)), float(rng.uniform(-3, 3)) * (rng.random() < 0.8))
     return make(kind, kappa, x0, None if rng.random() < 0.5 else int(rng.integers(-1, 2)))
 
@@ -79,21 +84,22 @@ def summary(paths):
 def main():
     if sys.argv[1] == "--summary":
         return summary(sys.argv[2:])
-    fast = sys.argv[1] == "--fast"
-    out_path, first, last = sys.argv[1 + fast], int(sys.argv[2 + fast]), int(sys.argv[3 + fast])
+    states = {"--fast": "fast", "--small": "small"}.get(sys.argv[1], "box")
+    shift = states != "box"
+    out_path, first, last = sys.argv[1 + shift], int(sys.argv[2 + shift]), int(sys.argv[3 + shift])
     commit = shard_commit()
     with open(out_path, "a") as out:
         for seed in range(first, last):
-            problem = state(seed, fast)
+            problem = state(seed, states)
             begun, cpu = time.time(), time.process_time()
             result = S.search(problem, time_limit=TIME_LIMIT)
             if result.coverage.stopped and time.process_time() - cpu < TIME_LIMIT:
                 result = S.search(problem, time_limit=STARVED * TIME_LIMIT)
             row = {"seed": seed, "problem": problem.to_dict(), "status": result.status, "commit": commit,
-                   "states": "fast" if fast else "box"}
+                   "states": states}
             if result.arrivals and result.coverage.complete:
                 horizon = result.coverage.horizon
-                finest = FAST_FINEST if fast else 0.0
+                finest = 0.0 if states == "box" else FAST_FINEST
                 brute = [T for T in brute_force(problem, horizon, BRUTE, finest) if T <= horizon * 0.999]
                 found = [a.T for a in result.arrivals]
                 row.update(brute=[BRUTE, finest], reading=result.coverage.reading, best=found[0],

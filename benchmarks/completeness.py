@@ -14,7 +14,7 @@ commit's search (`verdict`) is "the tree" where each of those files has, at that
 `measured.code_hash` it has now (docstrings and comments aside), "older" where one differs, and
 "unknown" where the shard recorded no commit git knows (none, or one with uncommitted changes). A
 line of the table: the commit, its date, that verdict; the states against the brute force (of them
-the fast starts of --fast and the small kappa of --small), the brute force's own reach (its arrivals, the states where its best is
+the fast starts of --fast, the small kappa of --small and the large of --large), the brute force's own reach (its arrivals, the states where its best is
 the search's and where it found none: "0 missed" checks nothing there) and the arrivals the search
 did not report; then the map cells by verdict (`search_vs_maps`: the same extremal; unsettled and
 agreeing; the map's extremal slower, settled or not; the map's value below the search's answer
@@ -40,7 +40,7 @@ SHARDS = {"brute force": "benchmarks/search_residual*.jsonl", "maps": "benchmark
           "saddle audit": "benchmarks/search_saddle_audit*.jsonl"}
 SETTLEMENTS = "benchmarks/map_settlements.jsonl"
 SEARCH = "ocp/indirect/searching.py"
-COUNTS = ("states", "fast", "small", "arrivals", "its best", "none found", "missed", "cells", "same", "agree", "map slower",
+COUNTS = ("states", "fast", "small", "large", "arrivals", "its best", "none found", "missed", "cells", "same", "agree", "map slower",
           "not attained", "cell missed", "not compared", "audited", "halves", "hiding", "hidden arrivals")
 #: a map cell's verdict -> its column
 MAP_COLUMNS = {"same extremal": "same", "unsettled, agree": "agree", "map slower": "map slower",
@@ -169,6 +169,7 @@ def tally(rows):
             c["states"] += 1
             c["fast"] += row.get("states") == "fast"
             c["small"] += row.get("states") == "small"
+            c["large"] += row.get("states") == "large"
             c["arrivals"] += row["n_brute"]
             c["its best"] += row["brute_best"] is not None and same_arrival(row["brute_best"], row["best"])
             c["none found"] += row["n_brute"] == 0
@@ -195,19 +196,19 @@ def main():
     now = _hashes(files)
     lines = sorted((*verdict(commit, files, now), commit or "none", c) for commit, c in tally(rows).items())
     print(f"The search's code: {', '.join(files)}.\n")
-    print("| code of | committed | its search | brute force: states (fast starts, small kappa) | its arrivals | its best the "
+    print("| code of | committed | its search | brute force: states (fast starts, small kappa, large kappa) | its arrivals | its best the "
           "search's | it found none | missed | maps: cells | same extremal | unsettled, agreeing | the map's slower "
           "| not attained | missed | not compared |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for stamp, judged, commit, c in lines:
-        print(f"| {commit} | {stamp[:10]} | {judged} | {c['states']} ({c['fast']}, {c['small']}) | {c['arrivals']} | {c['its best']} | "
+        print(f"| {commit} | {stamp[:10]} | {judged} | {c['states']} ({c['fast']}, {c['small']}, {c['large']}) | {c['arrivals']} | {c['its best']} | "
               f"{c['none found']} | {c['missed']} | {c['cells']} | {c['same']} | {c['agree']} | {c['map slower']} | "
               f"{c['not attained']} | {c['cell missed']} | {c['not compared']} |")
     for label, chosen in (("The search as it stands", [line for line in lines if line[1] == "the tree"]),
                           ("Every shard", lines)):
         total = {k: sum(line[3][k] for line in chosen) for k in COUNTS}
         print(f"\n{label} ({len(chosen)} lines): {total['states']} states against the brute "
-              f"force ({total['fast']} fast starts, {total['small']} at small kappa; {total['arrivals']} arrivals, its best the search's in "
+              f"force ({total['fast']} fast starts, {total['small']} at small kappa, {total['large']} at large kappa; {total['arrivals']} arrivals, its best the search's in "
               f"{total['its best']} states, none found in {total['none found']}; {total['missed']} missed), "
               f"{total['cells']} cells against the maps ({total['cell missed']} missed, {total['not attained']} where "
               f"the map's value is not attained); {total['not compared']} not "

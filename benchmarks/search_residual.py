@@ -3,7 +3,7 @@ of tests/test_search.py (a uniform grid of costate angles, each sign change of a
 less a target between neighbours solved where it moves less than 1 rad) on random states and kappa,
 both kinds, both readings, one JSON line per state (resumable by seed).
 
-    python benchmarks/search_residual.py [--fast | --small] OUT.jsonl FIRST_SEED END_SEED  (seeds FIRST_SEED to END_SEED - 1)
+    python benchmarks/search_residual.py [--fast | --small | --large] OUT.jsonl FIRST_SEED END_SEED  (seeds FIRST_SEED to END_SEED - 1)
     python benchmarks/search_residual.py --summary FILE.jsonl...
 
 The states: theta0 in [-4, 4], omega0 in [-3, 3] (0 one time in five), kappa log-uniform in
@@ -15,9 +15,11 @@ angle moves 1 rad or more is bisected for it down to FAST_FINEST (tests/test_sea
 arrivals of one state in five, and the bisection from 4,000 finds some of those at a fifth of its
 cost). With --small, the box's states at kappa log-uniform in [0.05, 0.2], the rest of the range
 the command line accepts (the extremals there pass near the upright many times before an arrival:
-steep pairs bisected as on the fast starts; a seed's state is not the box's at another kappa).
+steep pairs bisected as on the fast starts; a seed's state is not the box's at another kappa);
+with --large, kappa log-uniform in [10, 1e4] and omega0 in [-50, 50] (0 one time in five), the
+accepted range's other end, bisected alike.
 A line records the brute force it ran (`brute`: angles per half-circle, finest width) and the kind
-of its states (`states`: box, fast or small).
+of its states (`states`: box, fast, small or large).
 
 Shards are seed ranges (run them in parallel, under nice, each into its own file); --summary counts
 the states of every file given, by status, and the brute-force arrivals missed, and the brute
@@ -50,18 +52,21 @@ from ocp.indirect import searching as S  # noqa: E402
 #: by the machine's load) is run again with STARVED times the limit
 TIME_LIMIT = 60.0
 STARVED = 20
-#: the width down to which the brute force bisects a steep pair on the fast starts
+#: the width down to which the brute force bisects a steep pair (but in the box)
 FAST_FINEST = 1e-9
+#: the range of kappa (log-uniform) of the box's states and of those of --small and --large
+KAPPAS = {"box": (0.2, 10), "small": (0.05, 0.2), "large": (10, 1e4)}
 
 
 def state(seed, states="box"):
-    """The problem of `seed` among `states` (box, fast or small: the module's docstring)."""
+    """The problem of `seed` among `states` (box, fast, small or large: the module's docstring)."""
     if states == "fast":
         return make(*random_cases(1, seed)[0])
-    rng = np.random.default_rng(seed if states == "box" else [seed, 2])
+    rng = np.random.default_rng(seed if states == "box" else [seed, 2 if states == "small" else 3])
     kind = str(rng.choice(["swing-up", "damping"]))
-    kappa = float(10 ** rng.uniform(*np.log10((0.2, 10) if states == "box" else (0.05, 0.2))))
-    x0 = (float(rng.uniform(-4, 4)), float(rng.uniform(-3, 3)) * (rng.random() < 0.8))
+    kappa = float(10 ** rng.uniform(*np.log10(KAPPAS[states])))
+    speed = 50 if states == "large" else 3
+    x0 = (float(rng.uniform(-4, 4)), float(rng.uniform(-speed, speed)) * (rng.random() < 0.8))
     return make(kind, kappa, x0, None if rng.random() < 0.5 else int(rng.integers(-1, 2)))
 
 
@@ -84,7 +89,7 @@ def summary(paths):
 def main():
     if sys.argv[1] == "--summary":
         return summary(sys.argv[2:])
-    states = {"--fast": "fast", "--small": "small"}.get(sys.argv[1], "box")
+    states = {"--fast": "fast", "--small": "small", "--large": "large"}.get(sys.argv[1], "box")
     shift = states != "box"
     out_path, first, last = sys.argv[1 + shift], int(sys.argv[2 + shift]), int(sys.argv[3 + shift])
     commit = shard_commit()

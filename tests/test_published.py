@@ -180,7 +180,7 @@ def test_a_commit_is_judged_by_the_code_of_the_search_at_it():
 def test_the_shards_are_counted_by_commit_and_verdict():
     """Brute-force states compared (their arrivals and misses, whether the brute force's best is the
     search's, to 1e-8 relative, and where it found none), one not proven optimal (apart), a fast
-    start, one at small kappa; map cells: the same extremal, unsettled and agreeing, the map slower, the search slower
+    start, one at small kappa, one at large; map cells: the same extremal, unsettled and agreeing, the map slower, the search slower
     unsettled (a miss), a search stopped (apart); audited states, their halves, those hiding a turning
     point and the hidden arrivals."""
     rows = [("brute force", {"commit": "a", "n_brute": 3, "missing": [1.0], "best": 2.0, "brute_best": 1.0}),
@@ -190,6 +190,8 @@ def test_the_shards_are_counted_by_commit_and_verdict():
                              "brute_best": 2.0 + 1e-9}),
             ("brute force", {"commit": "b", "n_brute": 0, "missing": [], "states": "small", "best": 2.0,
                              "brute_best": None}),
+            ("brute force", {"commit": "b", "n_brute": 1, "missing": [], "states": "large", "best": 0.5,
+                             "brute_best": 0.5}),
             ("maps", {"commit": "a", "verdict": "same extremal"}),
             ("maps", {"commit": "a", "verdict": "unsettled, agree"}),
             ("maps", {"commit": "a", "verdict": "map slower"}),
@@ -199,13 +201,13 @@ def test_the_shards_are_counted_by_commit_and_verdict():
             ("saddle audit", {"commit": "a", "halves": 5, "hiding": 2, "hidden_arrivals": [[0.1, 0.2, [3, 0], 0, 4.0]]}),
             ("saddle audit", {"commit": "a", "halves": 0, "hiding": 0, "hidden_arrivals": []})]
     counts = _benchmark("completeness").tally(rows)
-    assert counts["a"] == {"states": 2, "fast": 0, "small": 0, "arrivals": 3, "its best": 0, "none found": 1, "missed": 1,
+    assert counts["a"] == {"states": 2, "fast": 0, "small": 0, "large": 0, "arrivals": 3, "its best": 0, "none found": 1, "missed": 1,
                            "cells": 5, "same": 1, "agree": 1, "map slower": 1, "not attained": 1, "cell missed": 1,
                            "not compared": 1,
                            "audited": 2, "halves": 5, "hiding": 2, "hidden arrivals": 1}
     b = counts["b"]
-    assert (b["states"], b["fast"], b["small"], b["its best"], b["none found"], b["cells"], b["not compared"]) == \
-        (2, 1, 1, 1, 1, 0, 1)
+    assert (b["states"], b["fast"], b["small"], b["large"], b["its best"], b["none found"], b["cells"],
+            b["not compared"]) == (3, 1, 1, 1, 2, 1, 0, 1)
 
 
 def test_a_settlement_judges_again_only_its_own_cell():

@@ -126,11 +126,13 @@ def closest(kind, kappa, x0, psi, s, spread):
     """(miss, psi, s): the least distance from x0 found among the extremals ending at the target with
     final costate angle near psi and time-to-go near s, by Nelder-Mead in (psi, s) from there (its
     first simplex `spread` = (dpsi, ds) wide; CHECK integration backwards from the target, as
-    `through`). Where the map's node lies beside a fold of its field (the extremals' map (psi, s) ->
-    x of rank 1: an arc that ends at the target as a turning point, reached by none that switch
-    there; the value Hoelder-1/2 across it, which the maps' triangles, linear, do not resolve and
-    their coarse and fine values may agree on) Newton from the map's (psi, V) diverges, and this
-    finds the map's extremal through x0 where one is near, or how far its family passes from x0."""
+    `through` at PRECISE). Where the map's node lies beside a fold of its field (the extremals that do
+    not switch before s all follow the one arc of their final control through the target, which
+    turns there: the map (psi, s) -> x has rank 1; the value is Hoelder-1/2 across that arc, which
+    the maps' linear triangles do not resolve, their coarse and fine values agreeing on a value no
+    extremal has) or where the value jumps between the map's neighbouring nodes, Newton from the
+    map's (psi, V) diverges; from here it finds the map's extremal through x0 where one is near, or
+    this tells how far the family passes from x0."""
     tol, order = taylor.CHECK
     switches, events, samples = np.empty((512, 5)), np.empty((512, 6)), np.empty((1, 3))
 

@@ -315,6 +315,10 @@ def timings(commit, records, time_tests, previous):
     shown = "python benchmarks/search_speed.py --processes"
     _, processes = run([sys.executable, "benchmarks/search_speed.py", "--processes"], shown)
     lines += ["", f"The standard cases, a whole process (its bytecode compiled first, as `pip install` does) and the search alone (`{shown}`):", "", processes.strip()]
+    shown = "python benchmarks/search_speed.py --breakdown"
+    _, split = run([sys.executable, "benchmarks/search_speed.py", "--breakdown"], shown)
+    lines += ["", f"Where the search alone spends that time: the compiled integration of the extremals, and the "
+                  f"rest, the scan's Python (`{shown}`):", "", split.strip()]
     replace_block(ROOT / "README.md", "timings", "\n".join(lines) + f"\n\n{stamp(record)}")
     return record
 

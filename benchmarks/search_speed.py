@@ -3,6 +3,7 @@
     python benchmarks/search_speed.py [--repeats 5]
     python benchmarks/search_speed.py --kappa-table [--chart DIR] [--repeats 3]
     python benchmarks/search_speed.py --processes [--repeats 5]
+    python benchmarks/search_speed.py --breakdown
 
 For each standard case: the textbook CasADi method (multiple shooting, N = 200, RK4 with M = 4
 steps, IPOPT, one start: the straight guess; its NLP built beforehand, so the time is the solve's)
@@ -25,6 +26,12 @@ within TEXTBOOK_BUDGET s of solves), and the ratio of the two times. --chart DIR
 With --processes: per standard case, a whole `ocp solve KIND --kappa K --json` process and the
 search alone (warm), the least and the median of their runs, beside the goals of issue 22
 (PROCESS_GOAL_S, SEARCH_GOAL_S).
+
+With --breakdown: where the search alone spends its time on the standard cases (BREAKDOWN), in the
+fastest of SEARCH_REPEATS runs: in the compiled integration of the extremals and their variations
+(`_taylor.extremal_variations`, timed around each call) and in the rest, the scan's Python (its
+samples' records, the examination of each interval, the roots' Newton steps), with the counts that
+scale them: the integrations, the extremals, the intervals examined.
 
 Every whole process is timed with the package's bytecode compiled first (`compileall`, as `pip
 install` does): where PYTHONDONTWRITEBYTECODE is set (as on the machines of this project) a module
@@ -64,6 +71,8 @@ SEARCH_LIMIT = 30.0
 PROCESS_GOAL_S, SEARCH_GOAL_S = 0.5, 0.005
 #: runs of the search alone per case with --processes (milliseconds each)
 SEARCH_REPEATS = 20
+#: the cases of --breakdown: the standard cases of issue 22's goal (kappa >= 0.5), and swing-up at 0.3
+BREAKDOWN = [(kind, kappa) for kind in ("swing-up", "damping") for kappa in (1.0, 0.75, 0.5)] + [("swing-up", 0.3)]
 
 
 def run_times(fn, repeats):
@@ -211,6 +220,50 @@ def processes(repeats):
           f"(median of 3)")
 
 
+def breakdown():
+    """The search alone on the BREAKDOWN cases, its time split between the compiled kernel and the
+    rest (the module doc), in the fastest of SEARCH_REPEATS runs."""
+    from ocp.indirect import searching, taylor
+    kernel, examine = taylor._taylor.extremal_variations, searching._examine
+    spent = {"kernel": 0.0, "calls": 0, "examined": 0}
+
+    def timed_kernel(*args):
+        start = time.perf_counter()
+        try:
+            return kernel(*args)
+        finally:
+            spent["kernel"] += time.perf_counter() - start
+            spent["calls"] += 1
+
+    def counted_examine(*args, **kwargs):
+        spent["examined"] += 1
+        return examine(*args, **kwargs)
+
+    print("| case | search alone ms | compiled kernel ms (share) | the rest, Python, ms | integrations | extremals "
+          "| intervals examined | Python us per interval |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    taylor._taylor.extremal_variations, searching._examine = timed_kernel, counted_examine
+    try:
+        search(ocp.swing_up(1.0))                       # load the compiled kernels
+        for kind, kappa in BREAKDOWN:
+            problem = ocp.core.problem.make(kind, kappa)
+            runs = []
+            for _ in range(SEARCH_REPEATS):
+                spent.update(kernel=0.0, calls=0, examined=0)
+                start = time.perf_counter()
+                found = search(problem)
+                runs.append((time.perf_counter() - start, dict(spent)))
+            total, least = min(runs, key=lambda run: run[0])
+            rest = total - least["kernel"]
+            print(f"| {kind} kappa={kappa:g} | {1e3 * total:.2f} | {1e3 * least['kernel']:.2f} "
+                  f"({least['kernel'] / total:.0%}) | {1e3 * rest:.2f} | {least['calls']} | {found.coverage.extremals} | "
+                  f"{least['examined']} | {1e6 * rest / max(least['examined'], 1):.0f} |")
+    finally:
+        taylor._taylor.extremal_variations, searching._examine = kernel, examine
+    print(f"\nthe fastest of {SEARCH_REPEATS} runs, warm; the kernel timed around each call (perf_counter), the rest "
+          f"the search's time less it")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
@@ -218,12 +271,16 @@ def main():
     parser.add_argument("--chart", metavar="DIR", help="with --kappa-table: draw DIR/search_cost.png")
     parser.add_argument("--processes", action="store_true", help="whole processes and the search alone on the "
                                                                  "standard cases (see the module doc)")
+    parser.add_argument("--breakdown", action="store_true", help="the search's time, compiled kernel and the rest "
+                                                                 "(see the module doc)")
     args = parser.parse_args()
     repeats = args.repeats
-    if args.kappa_table or args.processes:
+    if args.kappa_table or args.processes or args.breakdown:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-        print(f"commit {commit}, Python {platform.python_version()}, {platform.machine()}, repeats {repeats}\n")
-        return kappa_table(repeats, args.chart) if args.kappa_table else processes(repeats)
+        shown = "" if args.breakdown else f", repeats {repeats}"
+        print(f"commit {commit}, Python {platform.python_version()}, {platform.machine()}{shown}\n")
+        return (kappa_table(repeats, args.chart) if args.kappa_table else processes(repeats) if args.processes
+                else breakdown())
     textbook = ocp.MultipleShooting(N=200, integrator="rk4", M=4)
     ocp.solve(ocp.swing_up(1.0))                        # load the compiled kernels
     rows = []

@@ -1,5 +1,6 @@
 """Where the residual assumption of the search is most exposed, audited: the halves its scan settles by
-the bound on omega(t_a, .) (no zero, or one: monotone) while the energy of an arc before t_a may be at
+the bound on omega(t_a, .) (no zero, or one: monotone; its turns following the samples:
+`searching._turns_follow`) while the energy of an arc before t_a may be at
 a saddle's level there (`searching._may_pass_saddle`; the bound on e(t_a, .) is not trusted there, the
 one on omega is). Inside each such half, AUDIT angles evenly spaced are integrated and their turning
 points before t_a compared with the half's ends': one that none of the ends sees is hidden from the
@@ -52,12 +53,13 @@ class Audit:
         (wa, dwa, *_), (wm, dwm, *_), (wb, dwb, *_) = (s.omega(family, end) for s in (a, m, b))
         curvatures = S._curvatures(wa, wm, wb, dwa, dwm, dwb, h)
         saddle = S._may_pass_saddle(problem.kappa, a.u0, a, m, b, max(a.arc(end), m.arc(end), b.arc(end)), h)
+        follow = S._turns_follow(a, m, b, end, h)
         for half, (x0, x1, w0, w1, s0, s1) in enumerate(((a, m, wa, wm, dwa, dwm), (m, b, wm, wb, dwm, dwb))):
             reach = S.CURVATURE * curvatures[half] * h * h / 8           # as `_examine` judges omega's bound
             calm = (min(w0, w1) - reach > 0 or max(w0, w1) + reach < 0
                     or (s0 * s1 > 0 and abs(s0 + s1) > S.CURVATURE * curvatures[half] * h))
             before = x0.seen(end)
-            if not (calm and saddle[half] and before == x1.seen(end)):
+            if not (calm and follow[half] and saddle[half] and before == x1.seen(end)):
                 continue
             self.halves += 1
             if any(self.hidden(family, phi, a.u0, end, before) for phi in np.linspace(x0.phi, x1.phi, AUDIT + 2)[1:-1]):

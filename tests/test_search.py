@@ -451,13 +451,13 @@ def test_a_half_whose_arrivals_would_precede_the_least_time_from_the_start_holds
     Problem.lower_bound = 2.54. Samples that share a switch at t = 3 and a record at t = 8 (the
     acceptance), both at `theta` with e = 0.3, and see a turning point at t = 5 whose time and angle
     their values and slopes leave unbounded (slopes -100, 0, 100; an excursion of its angle through
-    pi). 25 rad from the target, the transit (6.3) puts every arrival of each half before
+    pi, within TURN_PHASE on each half: `_turns_follow`). 25 rad from the target, the transit (6.3) puts every arrival of each half before
     3 - 6.3 < 2.54: none, the interval resolved; 0.3 rad from it, the transit (0.4) leaves 8 - 0.4
     (the switch's window does not reach that: the descent ends there) and the turning point splits
     the interval."""
     problem = make("swing-up", 1.0, (0.0, 0.0), branch=0)
     e = 0.3
-    events = [{(1, 0): (t, th, dt, dth)} for t, th, dt, dth in ((5.0, 3.0, -100.0, 1.0), (5.5, 3.3, 0.0, -20.0),
+    events = [{(1, 0): (t, th, dt, dth)} for t, th, dt, dth in ((5.0, 3.0, -100.0, 1.0), (5.5, 3.3, 0.0, -10.0),
                                                                (5.0, 3.0, 100.0, 1.0))]
     a, m, b = (fake_sample(phi, None, 0.0, (0.5, 0.0, e, 0.0, theta, 0.0), events=ev, switches=((3.0, 0.0),))
                for phi, ev in zip((0.0, 0.1, 0.2), events))
@@ -806,6 +806,50 @@ def test_the_search_finds_the_missed_arrival():
     assert found.status == "optimal"
     assert abs(found.best.T - MISSED_T) <= found.best.T_error + 1e-9 * MISSED_T
     assert found.best.switch_times == pytest.approx(MISSED_SWITCHES, abs=1e-7)
+
+
+#: benchmarks/search_residual.py --large, seed 335: the scan missed arrivals of a window inside a half
+#: whose samples turn at theta = -68 to -77 (`S._turns_follow`); among them the runner-up, u = -1, +1, -1,
+#: found by `brute_force` above at 8.7533269333128 (CHECK accuracy); its switch times and T here are the
+#: search's (PRECISE), re-simulated independently below
+TURNED = make("damping", 11.057024604329927, (-2.770646989203019, -38.07464418422079), 1)
+TURNED_SWITCHES, TURNED_T = (0.021141251655802856, 6.103104368155123), 8.753326933312808
+
+
+def test_the_turned_runner_up_is_an_arrival():
+    """The bang-bang control u = -1, +1, -1 switched at TURNED_SWITCHES, re-simulated by scipy's DOP853
+    (1e-13), reaches the pinned target (2 pi, 0) at TURNED_T, to 1e-9."""
+    from scipy.integrate import solve_ivp
+    x, t = np.array(TURNED.x0), 0.0
+    for end, u in zip((*TURNED_SWITCHES, TURNED_T), (-1.0, 1.0, -1.0)):
+        x = solve_ivp(lambda _, y: [y[1], TURNED.kappa * u - math.sin(y[0])], (t, end), x, method="DOP853",
+                      rtol=1e-13, atol=1e-13).y[:, -1]
+        t = end
+    assert abs(x[0] - TURNED.target(1)[0]) < 1e-9 and abs(x[1]) < 1e-9
+
+
+def test_the_search_finds_the_arrival_behind_a_sweeping_turn():
+    """The search reports that arrival (before its acceptance: the runner-up), with its switches."""
+    found = S.search(TURNED)
+    assert found.status == "optimal"
+    match = [a for a in found.arrivals if abs(a.T - TURNED_T) <= a.T_error + 1e-9 * TURNED_T]
+    assert match and match[0].switch_times == pytest.approx(TURNED_SWITCHES, abs=1e-7)
+
+
+def test_a_half_is_settled_by_omega_only_where_its_turns_follow_the_samples():
+    """`_turns_follow`: a turning point before `end` that moves 0.2 rad across each half follows; one
+    sweeping 4 rad across the right half does not, nor one whose angle moves little between the
+    samples but whose slope there says it sweeps (h |dtheta/dphi| = 2); one after `end` is not asked."""
+    from types import SimpleNamespace as Sample
+
+    def samples(angles, slopes, t=1.0):
+        return [Sample(phi=0.1 * i, events={(1, 0): (t, th)}, slopes={(1, 0): (0.0, d)})
+                for i, (th, d) in enumerate(zip(angles, slopes))]
+
+    assert S._turns_follow(*samples((-70.0, -70.2, -70.4), (-2.0, -2.0, -2.0)), 5.0, 0.1) == [True, True]
+    assert S._turns_follow(*samples((-70.0, -70.2, -74.2), (-2.0, -2.0, -40.0)), 5.0, 0.1) == [True, False]
+    assert S._turns_follow(*samples((-70.0, -70.0, -70.0), (20.0, 0.0, 0.0)), 5.0, 0.1) == [False, True]
+    assert S._turns_follow(*samples((-70.0, -70.2, -74.2), (-2.0, -2.0, -40.0), t=6.0), 5.0, 0.1) == [True, True]
 
 
 def test_saddle_levels_are_the_maxima_of_the_arcs_potential():

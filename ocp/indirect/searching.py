@@ -96,6 +96,13 @@ damping on the plane from (-pi/2, -1.8) at kappa = 0.35834, reported as 17.8644.
 6.8e-5 apart in phi, both rotating at t_a = 17.25 (e = 12.4 and 7.0), the second arc's energy crosses
 the level of the saddle at theta = -2.775, and next to that crossing, on a window under 1e-4 wide,
 an extremal with three switches reaches the target at 15.1777 (tests/test_search.py).
+And arrivals the scan missed before `_turns_follow` (benchmarks/search_residual.py --large, 6 of
+1,465 states at kappa 10 to 14 from |omega0| 38 to 48, the best found in each): where a turn's angle
+sweeps several radians between two samples, the costate after it (p1' = p2 cos(theta), not averaged
+out where theta lingers) and so the next switch's time change faster than omega's values and slopes
+at t_a show; the bound on omega settles such a half only where every turn before t_a the samples
+share moves by at most TURN_PHASE across it (damping on the plane from (-2.7706, -38.075) at kappa
+= 11.057: the runner-up 8.7533, two switches, in a window of a half whose samples switch once).
 A label present at some of a, m, b only (its turning point crosses the horizon)
 before the acceptance horizon also forces a split, unless its time there is late (DIP) and stays
 after the acceptance extrapolated along its slope to the samples that miss it (`_dips`). Intervals are not split
@@ -214,6 +221,10 @@ DIP = 0.5
 FAR = 1e-2
 #: a turning point's angle changing by more than this over the finest spacing is discontinuous there
 JUMP = 1.0
+#: a half is settled by omega at the acceptance only where every turning point before it that its
+#: samples share moves by at most this angle across it (`_turns_follow`): the costate after a turn
+#: carries cos(theta) there
+TURN_PHASE = math.pi / 2
 #: a scan whose acceptance falls below this fraction of its own goes on with that acceptance's
 #: horizon (new extremals integrated to it, omega checked at the acceptance): a check at a time far
 #: past the acceptance sees turning points that cannot be arrivals (damping from (0, 25) at kappa =
@@ -657,6 +668,27 @@ def _runs_through(a, m, b, arc, t, h):
     return True
 
 
+def _turns_follow(a, m, b, end, h):
+    """For each half of [a.phi, b.phi], whether every turning point before `end` that a, m and b see
+    moves by at most TURN_PHASE there: its angle's chord plus h times its steepest slope. On an arc
+    the costate integrates p1' = p2 cos(theta), which a fast rotation averages out and a turn, where
+    theta lingers, does not: where the turn's angle sweeps cos(theta) through a sign change between
+    two samples, the costate after it, and the time of the next switch, may leave them and come back
+    (a switch coming in before `end` and the turning points after it changing) unseen by omega's
+    values and slopes at `end` (damping on the plane from (-2.7706, -38.075) at kappa = 11.057: turns
+    at theta = -68 to -77 across a half 0.06 wide, and the arrivals of a window inside it missed)."""
+    follow = [True, True]
+    for label, (t, _) in a.events.items():
+        if t >= end or label not in m.events or label not in b.events:
+            continue
+        angles = [s.events[label][1] for s in (a, m, b)]
+        slopes = [abs(s.slopes[label][1]) for s in (a, m, b)]
+        for half in (0, 1):
+            sweep = abs(angles[half + 1] - angles[half]) + h * max(slopes[half], slopes[half + 1])
+            follow[half] = follow[half] and sweep <= TURN_PHASE
+    return follow
+
+
 def _saddle_level(torque, k):
     """The level of saddle k of an arc's field (torque tau = kappa u_j, |tau| < 1): the maximum of
     V(theta) = -cos(theta) - tau theta at theta_k = pi - asin(tau) + 2 pi k (sin(theta_k) = tau,
@@ -902,6 +934,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
     # per half: omega(end, .) has no zero there, or one (monotone), or e(end, .) > 1 there (a rotation:
     # omega^2 / 2 > 1 + cos(theta) >= 0; e has no fast phase where omega has, when the family rotates)
     quiet, e_reach, saddle, curvatures = [], None, None, _curvatures(wa, wm, wb, dwa, dwm, dwb, h)
+    follow = _turns_follow(a, m, b, end, h)
     for half, (w0, w1, s0, s1, e0, e1) in enumerate(((wa, wm, dwa, dwm, ea, em), (wm, wb, dwm, dwb, em, eb))):
         bound = CURVATURE * curvatures[half]
         low, high = w1 if w1 < w0 else w0, w1 if w1 > w0 else w0       # min, max (as _curvatures writes them)
@@ -914,7 +947,7 @@ def _examine(problem, family, a, m, b, accept, extended, arrive=None):
                 saddle = saddle or _may_pass_saddle(problem.kappa, a.u0, a, m, b,
                                                     max(a.arc(end), m.arc(end), b.arc(end)), h)
                 calm = not saddle[half]
-        quiet.append(calm)
+        quiet.append(calm and follow[half])
     hidden = not (quiet[0] and quiet[1])
     # a quiet half whose ends see the same turning points before `end` has no zero of omega(end, .) (one
     # would change them): every phi of it sees those, and a label after `end` at its ends is after it there

@@ -75,6 +75,24 @@ def shard_commit():
     return described
 
 
+def shard_range(args, usage):
+    """(OUT path, range(FIRST, END)) of a shard runner's arguments OUT FIRST END (strings); anything
+    else: `usage` (its module's docstring) on stderr, exit status 2."""
+    try:
+        out, first, end = args
+        return Path(out), range(int(first), int(end))
+    except ValueError:
+        print(f"expected OUT.jsonl FIRST END (integers), got {' '.join(args) or 'nothing'}; usage:\n{usage}",
+              file=sys.stderr)
+        sys.exit(2)
+
+
+def shard_done(out, key):
+    """The values of `key` in the lines OUT holds already (none if it does not exist): a shard resumes
+    after them."""
+    return {json.loads(line)[key] for line in out.read_text().splitlines()} if out.exists() else set()
+
+
 def _module_file(name):
     """The project files of the module `name` (dotted): its .py, or an extension's C sources, or none."""
     extensions = extension_sources()

@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-from completeness import same_arrival, shard_commit  # noqa: E402
+from completeness import same_arrival, shard_commit, shard_done, shard_range  # noqa: E402
 from search_cost import random_cases  # noqa: E402
 from test_search import BRUTE, brute_force  # noqa: E402
 
@@ -86,15 +86,16 @@ def summary(paths):
           f"none found in {blind}): {len(missed)} missed {missed}")
 
 
-def main():
-    if sys.argv[1] == "--summary":
-        return summary(sys.argv[2:])
-    states = {"--fast": "fast", "--small": "small", "--large": "large"}.get(sys.argv[1], "box")
-    shift = states != "box"
-    out_path, first, last = sys.argv[1 + shift], int(sys.argv[2 + shift]), int(sys.argv[3 + shift])
-    commit = shard_commit()
+def main(args):
+    if args[:1] == ["--summary"]:
+        return summary(args[1:])
+    states = {"--fast": "fast", "--small": "small", "--large": "large"}.get(args[0] if args else "", "box")
+    out_path, seeds = shard_range(args[states != "box":], __doc__)
+    commit, done = shard_commit(), shard_done(out_path, "seed")
     with open(out_path, "a") as out:
-        for seed in range(first, last):
+        for seed in seeds:
+            if seed in done:
+                continue
             problem = state(seed, states)
             begun, cpu = time.time(), time.process_time()
             result = S.search(problem, time_limit=TIME_LIMIT)
@@ -116,4 +117,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from completeness import shard_commit  # noqa: E402
+from completeness import shard_commit, shard_done, shard_range  # noqa: E402
 from search_residual import state  # noqa: E402
 
 from ocp.indirect import searching as S  # noqa: E402
@@ -102,14 +102,13 @@ def summary(paths):
           f"{len(arrivals)} hidden arrivals before the search's best {arrivals}")
 
 
-def main():
-    if sys.argv[1] == "--summary":
-        return summary(sys.argv[2:])
-    out_path, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-    commit = shard_commit()
-    done = {json.loads(line)["seed"] for line in Path(out_path).read_text().splitlines()} if Path(out_path).exists() else set()
+def main(args):
+    if args[:1] == ["--summary"]:
+        return summary(args[1:])
+    out_path, seeds = shard_range(args, __doc__)
+    commit, done = shard_commit(), shard_done(out_path, "seed")
     with open(out_path, "a") as out:
-        for seed in range(first, last):
+        for seed in seeds:
             if seed in done:
                 continue
             problem, audit = state(seed), Audit()
@@ -128,4 +127,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main(sys.argv[1:]))

@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import minimize
 
-from completeness import shard_commit
+from completeness import shard_commit, shard_done, shard_range
 from ocp.core.problem import KINDS, make
 from ocp.indirect import search, taylor
 from ocp.synthesis.field import Window, synthesize
@@ -244,17 +244,18 @@ def summary(paths):
                   f"(coarse {r['V_coarse']:.10g}){exact}")
 
 
-def main():
-    if sys.argv[1] == "--summary":
-        return summary(sys.argv[2:])
-    if sys.argv[1] == "--settle":
-        return settle(sys.argv[2], sys.argv[3:])
-    out_path, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-    cells = int(sys.argv[sys.argv.index("--cells") + 1]) if "--cells" in sys.argv else 100
-    commit = shard_commit()
-    done = {json.loads(line)["map"] for line in Path(out_path).read_text().splitlines()} if Path(out_path).exists() else set()
+def main(args):
+    if args[:1] == ["--summary"]:
+        return summary(args[1:])
+    if args[:1] == ["--settle"] and len(args) > 1:
+        return settle(args[1], args[2:])
+    cells = 100
+    if args[-2:-1] == ["--cells"] and args[-1].isdigit():
+        args, cells = args[:-2], int(args[-1])
+    out_path, seeds = shard_range(args, __doc__)
+    commit, done = shard_commit(), shard_done(out_path, "map")
     with open(out_path, "a") as out:
-        for seed in range(first, last):
+        for seed in seeds:
             if seed in done:
                 continue
             for row in compare(seed, cells, commit):
@@ -263,4 +264,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))

@@ -269,3 +269,18 @@ def test_a_shard_records_only_a_commit_that_is_the_code_that_runs(monkeypatch, c
     with pytest.raises(SystemExit) as stop:
         module.shard_commit()
     assert stop.value.code == 2 and "imported from /elsewhere/checkout/ocp" in capsys.readouterr().err
+
+
+def test_a_shard_runner_reads_its_range_and_resumes_after_the_lines_it_holds(tmp_path, capsys):
+    """`completeness.shard_range`: OUT FIRST END, else the usage and exit 2 (no traceback);
+    `shard_done`: the seeds a shard already holds (none before its file exists)."""
+    module = _benchmark("completeness")
+    assert module.shard_range(["out.jsonl", "3", "7"], "USAGE") == (Path("out.jsonl"), range(3, 7))
+    for args in ([], ["out.jsonl", "3"], ["out.jsonl", "3", "seven"], ["--fast", "out.jsonl", "3"]):
+        with pytest.raises(SystemExit) as stop:
+            module.shard_range(args, "USAGE")
+        assert stop.value.code == 2 and "USAGE" in capsys.readouterr().err
+    out = tmp_path / "shard.jsonl"
+    assert module.shard_done(out, "seed") == set()
+    out.write_text('{"seed": 4, "x": 1}\n{"seed": 9}\n')
+    assert module.shard_done(out, "seed") == {4, 9}

@@ -164,17 +164,18 @@ def test_the_search_code_is_what_searching_imports_at_any_depth():
 
 
 def test_a_commit_is_judged_by_the_code_of_the_search_at_it():
-    """51fab86's search is the tree's (searching.py and what it imports unchanged since, docstrings
-    aside: the shards search_vs_maps-t2, search_residual-large-2 ran it); ae28c5c's is older
-    (searching.py changed after it: the turns that follow their samples); a commit with uncommitted
-    changes, or none recorded, is unknown; one file's code changed makes a commit older."""
+    """The search of the commit checked out is the tree's (in a checkout without changes to the search's
+    files, as CI's clean clone); ae28c5c's is older (searching.py changed after it: the turns that
+    follow their samples, 51fab86); a commit with uncommitted changes, or none recorded, is unknown;
+    one file's code changed makes a commit older."""
     module = _benchmark("completeness")
     files = module.search_code()
-    now = {path: module.code_hash(ROOT / path) for path in files}
-    assert module.verdict("51fab86", files, now)[1] == "the tree"
-    assert module.verdict("ae28c5c", files, now)[1] == "older"
-    assert module.verdict("51fab86-dirty", files, now) == module.verdict(None, files, now) == ("?", "unknown")
-    assert module.verdict("51fab86", files, {**now, "ocp/core/roots.py": "0" * 16})[1] == "older"
+    head = module.git("rev-parse", "--short", "HEAD").stdout.decode().strip()
+    at_head = {path: module.code_hash(ROOT / path) for path in files}
+    assert module.verdict(head, files, at_head)[1] == "the tree"
+    assert module.verdict("ae28c5c", files, at_head)[1] == "older"
+    assert module.verdict(f"{head}-dirty", files, at_head) == module.verdict(None, files, at_head) == ("?", "unknown")
+    assert module.verdict(head, files, {**at_head, "ocp/core/roots.py": "0" * 16})[1] == "older"
 
 
 def test_the_shards_are_counted_by_commit_and_verdict():

@@ -75,22 +75,19 @@ def shard_commit():
     return described
 
 
-def shard_range(args, usage):
-    """(OUT path, range(FIRST, END)) of a shard runner's arguments OUT FIRST END (strings); anything
-    else: `usage` (its module's docstring) on stderr, exit status 2."""
+def shard_range(args, usage, key):
+    """(OUT path, the seeds FIRST to END - 1 still to run) of a shard runner's arguments OUT FIRST END
+    (strings): those whose `key` no line of OUT holds yet (a shard resumes after them); anything else:
+    `usage` (its module's docstring) on stderr, exit status 2."""
     try:
         out, first, end = args
-        return Path(out), range(int(first), int(end))
+        out, seeds = Path(out), range(int(first), int(end))
     except ValueError:
         print(f"expected OUT.jsonl FIRST END (integers), got {' '.join(args) or 'nothing'}; usage:\n{usage}",
               file=sys.stderr)
         sys.exit(2)
-
-
-def shard_done(out, key):
-    """The values of `key` in the lines OUT holds already (none if it does not exist): a shard resumes
-    after them."""
-    return {json.loads(line)[key] for line in out.read_text().splitlines()} if out.exists() else set()
+    done = {json.loads(line)[key] for line in out.read_text().splitlines()} if out.exists() else set()
+    return out, [seed for seed in seeds if seed not in done]
 
 
 def _module_file(name):

@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-from completeness import same_arrival, shard_commit, shard_done, shard_range  # noqa: E402
+from completeness import same_arrival, shard_commit, shard_range  # noqa: E402
 from search_cost import random_cases  # noqa: E402
 from test_search import BRUTE, brute_force  # noqa: E402
 
@@ -90,12 +90,10 @@ def main(args):
     if args[:1] == ["--summary"]:
         return summary(args[1:])
     states = {"--fast": "fast", "--small": "small", "--large": "large"}.get(args[0] if args else "", "box")
-    out_path, seeds = shard_range(args[states != "box":], __doc__)
-    commit, done = shard_commit(), shard_done(out_path, "seed")
+    out_path, seeds = shard_range(args[states != "box":], __doc__, "seed")
+    commit = shard_commit()
     with open(out_path, "a") as out:
         for seed in seeds:
-            if seed in done:
-                continue
             problem = state(seed, states)
             begun, cpu = time.time(), time.process_time()
             result = S.search(problem, time_limit=TIME_LIMIT)

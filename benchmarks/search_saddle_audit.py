@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from completeness import shard_commit, shard_done, shard_range  # noqa: E402
+from completeness import shard_commit, shard_range  # noqa: E402
 from search_residual import state  # noqa: E402
 
 from ocp.indirect import searching as S  # noqa: E402
@@ -105,12 +105,10 @@ def summary(paths):
 def main(args):
     if args[:1] == ["--summary"]:
         return summary(args[1:])
-    out_path, seeds = shard_range(args, __doc__)
-    commit, done = shard_commit(), shard_done(out_path, "seed")
+    out_path, seeds = shard_range(args, __doc__, "seed")
+    commit = shard_commit()
     with open(out_path, "a") as out:
         for seed in seeds:
-            if seed in done:
-                continue
             problem, audit = state(seed), Audit()
             S._examine = audit.examine
             start = time.process_time()

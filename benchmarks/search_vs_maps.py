@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import minimize
 
-from completeness import shard_commit, shard_done, shard_range
+from completeness import shard_commit, shard_range
 from ocp.core.problem import KINDS, make
 from ocp.indirect import search, taylor
 from ocp.synthesis.field import Window, synthesize
@@ -252,12 +252,10 @@ def main(args):
     cells = 100
     if args[-2:-1] == ["--cells"] and args[-1].isdigit():
         args, cells = args[:-2], int(args[-1])
-    out_path, seeds = shard_range(args, __doc__)
-    commit, done = shard_commit(), shard_done(out_path, "map")
+    out_path, seeds = shard_range(args, __doc__, "map")
+    commit = shard_commit()
     with open(out_path, "a") as out:
         for seed in seeds:
-            if seed in done:
-                continue
             for row in compare(seed, cells, commit):
                 out.write(json.dumps(row) + "\n")
             out.flush()

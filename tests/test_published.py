@@ -273,15 +273,14 @@ def test_a_shard_records_only_a_commit_that_is_the_code_that_runs(monkeypatch, c
 
 
 def test_a_shard_runner_reads_its_range_and_resumes_after_the_lines_it_holds(tmp_path, capsys):
-    """`completeness.shard_range`: OUT FIRST END, else the usage and exit 2 (no traceback);
-    `shard_done`: the seeds a shard already holds (none before its file exists)."""
+    """`completeness.shard_range`: OUT FIRST END, else the usage and exit 2 (no traceback); the seeds
+    to run, every one before the shard's file exists, then those none of its lines holds."""
     module = _benchmark("completeness")
-    assert module.shard_range(["out.jsonl", "3", "7"], "USAGE") == (Path("out.jsonl"), range(3, 7))
+    out = tmp_path / "shard.jsonl"
+    assert module.shard_range([str(out), "3", "7"], "USAGE", "seed") == (out, [3, 4, 5, 6])
     for args in ([], ["out.jsonl", "3"], ["out.jsonl", "3", "seven"], ["--fast", "out.jsonl", "3"]):
         with pytest.raises(SystemExit) as stop:
-            module.shard_range(args, "USAGE")
+            module.shard_range(args, "USAGE", "seed")
         assert stop.value.code == 2 and "USAGE" in capsys.readouterr().err
-    out = tmp_path / "shard.jsonl"
-    assert module.shard_done(out, "seed") == set()
     out.write_text('{"seed": 4, "x": 1}\n{"seed": 9}\n')
-    assert module.shard_done(out, "seed") == {4, 9}
+    assert module.shard_range([str(out), "3", "7"], "USAGE", "seed") == (out, [3, 5, 6])
